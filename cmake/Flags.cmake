@@ -1,0 +1,33 @@
+# Floating-point rules for a bit-exact reference.
+#
+#  * -ffp-contract=off: a*b+c must be two roundings, never one fused multiply-add; GL blending is
+#    "product, product, add" and any contraction changes stored bits.
+#  * never -ffast-math (or any of its parts): NaN, inf, signed zero and denormals are data here.
+#  * F16C (x86-64, every CPU since 2012): fp32<->fp16 conversion in one instruction with an
+#    explicit rounding mode. With OITREF_F16C=OFF the portable C++ converter is used instead; a
+#    test proves both give the same bits for every input, so the choice only changes speed.
+#    The command-line tool checks at start-up that the CPU has F16C when it was built with it.
+
+add_library(oitref_flags INTERFACE)
+target_compile_options(oitref_flags INTERFACE
+  -ffp-contract=off -fno-fast-math -fno-associative-math -fno-reciprocal-math
+  -Wall -Wextra)
+if(CMAKE_BUILD_TYPE STREQUAL "Release")
+  target_compile_options(oitref_flags INTERFACE -O2)
+endif()
+
+include(CheckCXXCompilerFlag)
+set(_f16c_default OFF)
+if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64|amd64")
+  check_cxx_compiler_flag(-mf16c OITREF_COMPILER_HAS_F16C)
+  if(OITREF_COMPILER_HAS_F16C)
+    set(_f16c_default ON)
+  endif()
+endif()
+option(OITREF_F16C "Use the x86 F16C instructions for fp16 conversion (same bits as the portable path)" ${_f16c_default})
+if(OITREF_F16C)
+  # -mf16c implies AVX encodings; it never enables FMA, and -ffp-contract=off forbids fusing anyway.
+  target_compile_options(oitref_flags INTERFACE -mf16c)
+  target_compile_definitions(oitref_flags INTERFACE OITREF_HAVE_F16C=1)
+endif()
+message(STATUS "oitref: F16C fast path ${OITREF_F16C}")

@@ -1,0 +1,76 @@
+// The emulated GPU: draws triangles and full-screen passes into a Framebuffer.
+//
+// Stages (one source file each, in src/pipeline/): primitive assembly and clipping (clip.cpp),
+// triangle setup (setup.cpp), binning into tiles (binning.cpp), rasterization per tile
+// (raster.cpp), and per-fragment operations — interpolation, depth test, shading, blending
+// (fragment_ops.cpp). Tiles are rasterized in parallel with oneTBB; each tile is owned by one
+// worker and walks its triangles in submission order, so every pixel sees its fragments in
+// primitive order and the result is bit-identical for any thread count.
+//
+// Not implemented (not needed by any OIT method here): stencil, scissor, multisampling, polygon
+// offset, lines and points, geometry/tessellation stages, sRGB targets, dithering.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+
+#include "oitref/depth.h"
+#include "oitref/geometry.h"
+#include "oitref/image.h"
+#include "oitref/pipeline_state.h"
+#include "oitref/shader.h"
+
+namespace oitref {
+
+// Attachments of a pass. All bound attachments must have the same size.
+struct Framebuffer {
+  std::array<Image*, kMaxColorTargets> color{};
+  DepthBuffer* depth = nullptr;
+
+  int width() const;
+  int height() const;
+  void validate() const;  // throws std::invalid_argument on no attachments or mismatched sizes
+};
+
+struct DrawStats {
+  uint64_t trianglesSubmitted = 0;
+  uint64_t trianglesRasterized = 0;  // after clipping (which may split), culling and zero-area removal
+  uint64_t trianglesNonFinite = 0;   // dropped: a vertex with NaN or inf (GL leaves this undefined)
+  uint64_t fragmentsRasterized = 0;  // covered pixel centres
+  uint64_t fragmentsShaded = 0;      // fragment shader invocations
+  uint64_t fragmentsDepthFailed = 0;
+  uint64_t fragmentsDiscarded = 0;
+  uint64_t fragmentsWritten = 0;     // reached blending
+  double setupMs = 0, rasterMs = 0;
+
+  DrawStats& operator+=(const DrawStats& o);
+};
+
+struct RendererOptions {
+  int threads = 0;      // 0: every hardware thread
+  int tileSize = 64;    // pixels; a power of two from 8 to 256
+};
+
+class Renderer {
+ public:
+  explicit Renderer(RendererOptions options = {});
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  int threads() const;
+  const RendererOptions& options() const { return options_; }
+
+  DrawStats draw(Framebuffer& fb, const PipelineState& state, const Geometry& geometry, const FragmentProgram& program);
+  // One fragment per pixel of the viewport, at window depth 0, with no attributes, through the
+  // same fragment operations (depth test if enabled, blending, write masks).
+  DrawStats drawFullscreen(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program);
+
+ private:
+  RendererOptions options_;
+  struct Arena;
+  std::unique_ptr<Arena> arena_;
+};
+
+}  // namespace oitref

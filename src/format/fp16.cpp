@@ -1,0 +1,23 @@
+#include "oitref/fp16.h"
+
+#include "format/fp16_inline.h"
+
+namespace oitref {
+
+uint16_t encodeHalf(float value, Rounding rounding) { return detail::encodeHalfInline(value, rounding); }
+float decodeHalf(uint16_t bits) { return detail::decodeHalfInline(bits); }
+
+uint16_t encodeHalfPortable(float value, Rounding rounding) {
+  return static_cast<uint16_t>(encodeMinifloat(value, kHalfSpec, rounding));
+}
+float decodeHalfPortable(uint16_t bits) { return decodeMinifloat(bits, kHalfSpec); }
+
+bool halfUsesF16C() {
+#if defined(OITREF_HAVE_F16C)
+  return true;
+#else
+  return false;
+#endif
+}
+
+}  // namespace oitref

@@ -1,0 +1,35 @@
+#include "oitref/image.h"
+
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace oitref {
+
+size_t imageBytes(const Format& format, int width, int height) {
+  return size_t(width) * size_t(height) * size_t(format.bytesPerTexel());
+}
+
+Image::Image(Format format, int width, int height) : format_(format), width_(width), height_(height) {
+  if (width < 1 || height < 1 || width > kMaxDimension || height > kMaxDimension)
+    throw std::invalid_argument("image size " + std::to_string(width) + "x" + std::to_string(height) +
+                                " outside 1.." + std::to_string(kMaxDimension));
+  texelBytes_ = size_t(format.bytesPerTexel());
+  bytes_.assign(imageBytes(format, width, height), 0);
+}
+
+void Image::store(int x, int y, const glm::vec4& value, const Profile& profile) {
+  encodeTexel(format_, value, profile, texel(x, y));
+}
+
+void Image::clear(const glm::vec4& value, const Profile& profile) {
+  uint8_t pattern[16] = {};
+  encodeTexel(format_, value, profile, pattern);
+  for (size_t i = 0; i < bytes_.size(); i += texelBytes_) std::memcpy(bytes_.data() + i, pattern, texelBytes_);
+}
+
+bool Image::sameBits(const Image& other) const {
+  return format_ == other.format_ && width_ == other.width_ && height_ == other.height_ && bytes_ == other.bytes_;
+}
+
+}  // namespace oitref

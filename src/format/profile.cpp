@@ -1,0 +1,76 @@
+#include "oitref/profile.h"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace oitref {
+namespace {
+
+const char* roundingName(Rounding r) { return r == Rounding::NearestEven ? "rne" : "rtz"; }
+
+Rounding parseRounding(const std::string& key, const std::string& v) {
+  if (v == "rne") return Rounding::NearestEven;
+  if (v == "rtz") return Rounding::TowardZero;
+  throw std::invalid_argument("profile key '" + key + "': expected rne or rtz, got '" + v + "'");
+}
+
+}  // namespace
+
+std::string Profile::describe() const {
+  std::ostringstream s;
+  s << name << " (fp16=" << roundingName(fp16) << ", packed=" << roundingName(packedFloat)
+    << ", minifloat=" << roundingName(minifloat)
+    << ", unorm=" << (unorm == UnormRounding::ExactNearestEven ? "exact" : "fp32")
+    << ", unorm8_blend=" << (unorm8Blend == Unorm8Blend::Float ? "float" : "integer") << ")";
+  return s.str();
+}
+
+Profile exactProfile() { return Profile{}; }
+
+Profile llvmpipeProfile() {
+  Profile p;
+  p.name = "llvmpipe";
+  p.fp16 = Rounding::TowardZero;
+  p.packedFloat = Rounding::TowardZero;
+  p.minifloat = Rounding::NearestEven;
+  p.unorm = UnormRounding::Fp32Product;
+  p.unorm8Blend = Unorm8Blend::Integer;
+  return p;
+}
+
+Profile parseProfile(const std::string& text) {
+  std::istringstream in(text);
+  std::string part;
+  std::getline(in, part, ',');
+  Profile p;
+  if (part == "exact") p = exactProfile();
+  else if (part == "llvmpipe") p = llvmpipeProfile();
+  else throw std::invalid_argument("unknown profile '" + part + "' (valid: exact, llvmpipe)");
+  bool overridden = false;
+  while (std::getline(in, part, ',')) {
+    const auto eq = part.find('=');
+    if (eq == std::string::npos)
+      throw std::invalid_argument("profile override '" + part + "' is not key=value");
+    const std::string key = part.substr(0, eq), value = part.substr(eq + 1);
+    if (key == "fp16") p.fp16 = parseRounding(key, value);
+    else if (key == "packed") p.packedFloat = parseRounding(key, value);
+    else if (key == "minifloat") p.minifloat = parseRounding(key, value);
+    else if (key == "unorm") {
+      if (value == "exact") p.unorm = UnormRounding::ExactNearestEven;
+      else if (value == "fp32") p.unorm = UnormRounding::Fp32Product;
+      else throw std::invalid_argument("profile key 'unorm': expected exact or fp32, got '" + value + "'");
+    } else if (key == "unorm8_blend") {
+      if (value == "float") p.unorm8Blend = Unorm8Blend::Float;
+      else if (value == "integer") p.unorm8Blend = Unorm8Blend::Integer;
+      else throw std::invalid_argument("profile key 'unorm8_blend': expected float or integer, got '" + value + "'");
+    } else {
+      throw std::invalid_argument("unknown profile key '" + key +
+                                  "' (valid: fp16, packed, minifloat, unorm, unorm8_blend)");
+    }
+    overridden = true;
+  }
+  if (overridden) p.name = text;
+  return p;
+}
+
+}  // namespace oitref

@@ -1,0 +1,67 @@
+// Stage 2: triangle setup — perspective divide, viewport transform, snapping, edge functions,
+// facing and culling (GL 4.6 §13.8, §14.6).
+//
+// Numeric layout:
+//  * Window coordinates are computed in double: x_w = x_ndc·(w/2) + (x + w/2), and likewise y;
+//    z_w = ½·z_ndc + ½ (depth range [0,1], GL §13.8.1).
+//  * x_w, y_w are snapped to fixed point with S = 2^subpixelBits units per pixel, rounding to
+//    nearest, ties to even. After guard-band clipping |X|, |Y| < 2^30.
+//  * Edge i runs from vertex i+1 to vertex i+2 (mod 3): E_i(P) = A_i·P.x + B_i·P.y + C_i with
+//    A_i = −(y_b − y_a), B_i = x_b − x_a, C_i = −(A_i·x_a + B_i·y_a); all int64 (|E| < 2^62).
+//    P is a pixel centre in the same units: (x·S + S/2, y·S + S/2).
+//  * Triangles are reoriented counter-clockwise (in GL's y-up window space) so that E_i > 0
+//    inside; E_i(P) / area2 is then the window-space barycentric coordinate of vertex i.
+//  * A sample with E_i = 0 belongs to the triangle only if edge i is "top/left" under the fill
+//    convention (pipeline_state.h); otherwise the test is E_i > 0.
+//  * Facing: the sign of the snapped window-space area (GL §14.6.1 eq. 14.8); counter-clockwise
+//    is front with FrontFace::CounterClockwise. Zero-area triangles produce no fragments.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "oitref/geometry.h"
+#include "oitref/pipeline_state.h"
+#include "pipeline/clip.h"
+
+namespace oitref::detail {
+
+struct PixelRect {
+  int x0, y0, x1, y1;  // inclusive-exclusive: [x0, x1) × [y0, y1)
+};
+
+struct SetupTriangle {
+  int64_t edgeA[3], edgeB[3], edgeC[3];
+  int64_t area2;       // E_i at vertex i, > 0
+  double z[3];         // window z per vertex
+  double invW[3];      // 1 / clip w per vertex
+  PixelRect bounds;    // covered pixel range, clipped to the viewport
+  uint32_t primitiveId;
+  uint32_t vertexIndex[3];  // source vertices of the original triangle, in original order
+  int32_t clipSlot;         // -1: not clipped; else index of its ClipBarycentrics
+  uint8_t inclusiveEdges;   // bit i: samples exactly on edge i are inside
+  bool frontFacing;
+};
+
+// Barycentrics (w.r.t. the original triangle) of a clipped triangle's three vertices.
+struct ClipBarycentrics {
+  double b[3][3];
+};
+
+struct SetupContext {
+  RasterState raster;
+  bool clipNearFar = true;
+  // Viewport in pixels.
+  int vx = 0, vy = 0, vw = 0, vh = 0;
+};
+
+struct SetupCounters {
+  uint64_t rasterized = 0, nonFinite = 0;
+};
+
+// Assembles, clips and sets up triangle `t` of `geometry`, appending 0 or more SetupTriangles.
+void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& context,
+                    std::vector<SetupTriangle>& out, std::vector<ClipBarycentrics>& clipOut,
+                    SetupCounters& counters);
+
+}  // namespace oitref::detail

@@ -1,0 +1,55 @@
+// One blend test case: a format, a blend state and constant, a destination to store and a source
+// to blend. `oitref blend` evaluates single cases and CSV batches; glcheck reuses the CSV format.
+//
+// CSV columns (header line first, one case per line):
+//   format,eq_rgb,eq_alpha,src_rgb,dst_rgb,src_alpha,dst_alpha,const_r,const_g,const_b,const_a,
+//   dst_r,dst_g,dst_b,dst_a,src_r,src_g,src_b,src_a
+// Output repeats them and adds dst_bits,result_bits,result_r,result_g,result_b,result_a.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "oitref/blend_state.h"
+#include "oitref/format.h"
+#include "oitref/profile.h"
+
+namespace oitref::tools {
+
+struct BlendCase {
+  Format format;
+  BlendState state;  // enabled
+  glm::vec4 constant{0.0f}, destination{0.0f}, source{0.0f};
+};
+
+struct BlendOutcome {
+  std::array<uint8_t, 16> dstTexel{}, resultTexel{};
+  glm::vec4 dstStored{0.0f}, result{0.0f};  // decoded
+};
+
+BlendOutcome evaluate(const BlendCase& c, const Profile& profile);
+
+extern const char* const kBlendCsvColumns[19];
+std::string blendCsvHeader(bool withResults);
+
+// Parses one CSV line. Throws BlendCsvError with the 1-based column of the first bad field.
+struct BlendCsvError : std::invalid_argument {
+  int column;
+  BlendCsvError(int col, const std::string& what) : std::invalid_argument(what), column(col) {}
+};
+BlendCase parseBlendCsvLine(const std::string& line);
+// The input columns of the case, then the outcome's columns.
+std::string formatBlendCsvLine(const std::string& inputLine, const BlendCase& c, const BlendOutcome& o);
+
+// Runs a whole CSV stream: results to `out`, one error per bad line to `err` ("line N, column C
+// (name): reason"). Returns the number of bad lines.
+int runBlendCsv(std::istream& in, std::ostream& out, std::ostream& err, const Profile& profile,
+                const std::string& sourceName);
+
+}  // namespace oitref::tools

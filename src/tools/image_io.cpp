@@ -1,0 +1,67 @@
+#include "tools/image_io.h"
+
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+namespace oitref::tools {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+void writeImage(const std::string& path, const Image& image) {
+  const Format& f = image.format();
+  const int w = image.width(), h = image.height(), channels = f.channels;
+  const ChannelEncoding enc = f.encoding();
+  const bool rawBytes = (enc == ChannelEncoding::Unorm && !f.isPacked()) || enc == ChannelEncoding::Half ||
+                        enc == ChannelEncoding::Float32;
+  const OIIO::TypeDesc type = enc == ChannelEncoding::Unorm && !f.isPacked() ? OIIO::TypeDesc::UINT8
+                              : enc == ChannelEncoding::Half                  ? OIIO::TypeDesc::HALF
+                                                                              : OIIO::TypeDesc::FLOAT;
+  const std::string ext = lowerExtension(path);
+  if (type != OIIO::TypeDesc::UINT8 && ext != ".exr")
+    throw std::runtime_error(path + ": format " + f.name() + " holds values beyond 8 bits; write it as .exr");
+
+  // Pixels in memory, bottom row first (GL window order); a negative y stride flips on output.
+  std::vector<float> decoded;
+  const uint8_t* base = image.bytes().data();
+  OIIO::stride_t pixelStride = OIIO::stride_t(image.bytesPerTexel());
+  if (!rawBytes) {
+    decoded.resize(size_t(w) * h * channels);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const glm::vec4 v = image.fetch(x, y);
+        for (int c = 0; c < channels; ++c) decoded[(size_t(y) * w + x) * channels + c] = v[c];
+      }
+    base = reinterpret_cast<const uint8_t*>(decoded.data());
+    pixelStride = OIIO::stride_t(sizeof(float) * channels);
+  }
+  const OIIO::stride_t rowStride = pixelStride * w;
+  const uint8_t* topRow = base + size_t(h - 1) * size_t(rowStride);
+
+  const std::filesystem::path final(path);
+  const std::filesystem::path temp =
+      final.parent_path() / ("." + final.stem().string() + ".tmp" + std::to_string(::getpid()) + final.extension().string());
+  auto out = OIIO::ImageOutput::create(temp.string());
+  if (!out) throw std::runtime_error(path + ": no image writer for '" + ext + "': " + OIIO::geterror());
+  OIIO::ImageSpec spec(w, h, channels, type);
+  if (channels == 4) spec.alpha_channel = 3;
+  if (!out->open(temp.string(), spec) ||
+      !out->write_image(type, topRow, pixelStride, -rowStride) || !out->close()) {
+    const std::string err = out->geterror();
+    std::filesystem::remove(temp);
+    throw std::runtime_error(path + ": " + err);
+  }
+  std::filesystem::rename(temp, final);
+}
+
+}  // namespace oitref::tools

@@ -1,0 +1,19 @@
+// Writing render targets to files through OpenImageIO, top row first.
+//  * 8-bit UNORM targets (r8, rg8, rgba8): their bytes as they are (PNG, or any 8-bit format).
+//  * fp16 targets: EXR HALF channels holding the target's own bits.
+//  * fp32 targets: EXR FLOAT channels holding the target's own bits.
+//  * other formats (rgb10a2, r11g11b10f, minifloats): their exact decoded values as EXR FLOAT.
+// Files are written to a temporary name beside the destination and renamed, so an interrupted run
+// never leaves a truncated image under the final name.
+#pragma once
+
+#include <string>
+
+#include "oitref/image.h"
+
+namespace oitref::tools {
+
+// Throws std::runtime_error naming the file and the reason.
+void writeImage(const std::string& path, const Image& image);
+
+}  // namespace oitref::tools

@@ -1,0 +1,22 @@
+// The oitref command-line tool.
+#include <iostream>
+
+#include "oitref/fp16.h"
+#include "tools/commands.h"
+
+int main(int argc, char** argv) {
+#if defined(OITREF_HAVE_F16C)
+  if (!__builtin_cpu_supports("f16c")) {
+    std::cerr << "oitref: this build uses the x86 F16C instructions, which this CPU lacks; "
+                 "rebuild with -DOITREF_F16C=OFF (same results, portable code)\n";
+    return 2;
+  }
+#endif
+  CLI::App app{"oitref: a bit-exact CPU reference of the GPU pipeline for order-independent transparency"};
+  app.require_subcommand(1);
+  int exitCode = 0;
+  oitref::tools::addBlendCommand(app, exitCode);
+  oitref::tools::addDemoCommand(app, exitCode);
+  CLI11_PARSE(app, argc, argv);
+  return exitCode;
+}

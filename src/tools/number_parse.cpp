@@ -1,0 +1,48 @@
+#include "tools/number_parse.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <stdexcept>
+
+namespace oitref::tools {
+
+std::optional<float> parseFloatExact(const std::string& text) {
+  size_t b = text.find_first_not_of(" \t\r");
+  size_t e = text.find_last_not_of(" \t\r");
+  if (b == std::string::npos) return std::nullopt;
+  const std::string t = text.substr(b, e - b + 1);
+  const char* begin = t.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const float v = std::strtof(begin, &end);  // glibc: correctly rounded, hex floats, nan/inf
+  if (end != begin + t.size()) return std::nullopt;
+  return v;  // ERANGE still yields the correctly rounded result (±inf, denormal or 0)
+}
+
+glm::vec4 parseVec4(const std::string& text, const std::string& what) {
+  std::istringstream in(text);
+  std::string part;
+  glm::vec4 v(0.0f);
+  int i = 0;
+  while (std::getline(in, part, ',')) {
+    if (i == 4) throw std::invalid_argument(what + ": more than 4 components in '" + text + "'");
+    const auto f = parseFloatExact(part);
+    if (!f) throw std::invalid_argument(what + ": component " + std::to_string(i + 1) + " '" + part +
+                                        "' is not a number (decimal, hex float, nan, inf)");
+    v[i++] = *f;
+  }
+  if (i != 4) throw std::invalid_argument(what + ": expected 4 components r,g,b,a, got " + std::to_string(i));
+  return v;
+}
+
+std::string hexFloat(float value) {
+  if (std::isnan(value)) return std::signbit(value) ? "-nan" : "nan";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%a", double(value));
+  return buf;
+}
+
+}  // namespace oitref::tools

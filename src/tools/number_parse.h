@@ -1,0 +1,19 @@
+// Exact number parsing and printing for the command line and CSV.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <glm/vec4.hpp>
+
+namespace oitref::tools {
+
+// Decimal ("0.1", "1e-3"), C99 hex float ("0x1.8p-3"), "nan", "inf", "-inf" -> fp32, correctly
+// rounded (strtof). nullopt when the whole text is not one number.
+std::optional<float> parseFloatExact(const std::string& text);
+// "r,g,b,a" -> vec4. Throws std::invalid_argument naming `what` and the bad component.
+glm::vec4 parseVec4(const std::string& text, const std::string& what);
+// Hex float that round-trips ("0x1.8p-3", "0x0p+0", "nan", "-inf").
+std::string hexFloat(float value);
+
+}  // namespace oitref::tools

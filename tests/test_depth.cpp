@@ -1,0 +1,67 @@
+// Depth formats and compare functions, hand-derived.
+#include <catch2/catch.hpp>
+
+#include "oitref/depth.h"
+#include "support.h"
+
+using namespace oitref;
+
+TEST_CASE("depth: conversion to the buffer format rounds the exact product to nearest even", "[depth]") {
+  CHECK(encodeDepth(0.5, DepthFormat::D16) == 32768);       // 32767.5 -> even
+  CHECK(encodeDepth(0.5, DepthFormat::D24) == 8388608);     // 8388607.5 -> even
+  CHECK(encodeDepth(1.0, DepthFormat::D16) == 65535);
+  CHECK(encodeDepth(1.0 / 65535.0 * 2.5, DepthFormat::D16) == 2);  // 2.5 -> 2
+  CHECK(encodeDepth(-0.25, DepthFormat::D24) == 0);          // clamped to the depth range
+  CHECK(encodeDepth(1.5, DepthFormat::D24) == 0xffffff);
+  CHECK(encodeDepth(std::nan(""), DepthFormat::D16) == 0);
+  CHECK(encodeDepth(0.1, DepthFormat::D32F) == test::toBits(0.1f));
+  CHECK(encodeDepth(-1.0, DepthFormat::D32F) == 0);
+  CHECK(decodeDepth(32768, DepthFormat::D16) == 32768.0 / 65535.0);
+}
+
+TEST_CASE("depth: every compare function against its truth table", "[depth]") {
+  // (fragment, stored): less, equal, greater.
+  const uint32_t pairs[3][2] = {{1, 2}, {2, 2}, {3, 2}};
+  const bool truth[8][3] = {
+      {false, false, false},  // never
+      {true, false, false},   // less
+      {false, true, false},   // equal
+      {true, true, false},    // lequal
+      {false, false, true},   // greater
+      {true, false, true},    // notequal
+      {false, true, true},    // gequal
+      {true, true, true},     // always
+  };
+  for (DepthFormat fmt : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F})
+    for (int f = 0; f < 8; ++f)
+      for (int p = 0; p < 3; ++p) {
+        uint32_t a = pairs[p][0], b = pairs[p][1];
+        if (fmt == DepthFormat::D32F) a = test::toBits(float(a) / 4), b = test::toBits(float(b) / 4);
+        INFO(toString(fmt) << " " << toString(CompareFunc(f)) << " case " << p);
+        CHECK(depthTestPasses(CompareFunc(f), a, b, fmt) == truth[f][p]);
+      }
+  for (int f = 0; f < 8; ++f) CHECK(parseCompareFunc(toString(CompareFunc(f))) == CompareFunc(f));
+  CHECK_THROWS_WITH(parseCompareFunc("lesser"), Catch::Contains("lequal"));
+}
+
+TEST_CASE("depth: the compare sees converted values, so nearby depths collide in d16", "[depth]") {
+  const double a = 0.5, b = 0.5 + 0.2 / 65535.0;  // both quantise to 32768
+  const uint32_t qa = encodeDepth(a, DepthFormat::D16), qb = encodeDepth(b, DepthFormat::D16);
+  CHECK(qa == qb);
+  CHECK_FALSE(depthTestPasses(CompareFunc::Less, qb, qa, DepthFormat::D16));
+  CHECK(depthTestPasses(CompareFunc::LEqual, qb, qa, DepthFormat::D16));
+  // d24 and d32f keep them apart.
+  CHECK(encodeDepth(a, DepthFormat::D24) != encodeDepth(b, DepthFormat::D24));
+}
+
+TEST_CASE("depth: buffers clear and store in their own width", "[depth]") {
+  DepthBuffer d16(DepthFormat::D16, 4, 4);
+  CHECK(d16.load(3, 3) == 65535);
+  d16.clear(0.25);
+  CHECK(d16.load(0, 0) == encodeDepth(0.25, DepthFormat::D16));
+  CHECK(d16.sizeBytes() == 32);
+  DepthBuffer d24(DepthFormat::D24, 4, 4);
+  d24.store(1, 2, 123);
+  CHECK(d24.load(1, 2) == 123);
+  CHECK(d24.sizeBytes() == 64);
+}

@@ -1,0 +1,115 @@
+// Texel layouts, hand-derived from the GL packed-type tables (GL 4.6 §8.4.4.2, table 8.8).
+#include <catch2/catch.hpp>
+
+#include <cstring>
+
+#include "oitref/format.h"
+#include "oitref/image.h"
+
+using namespace oitref;
+
+namespace {
+
+uint32_t word(const uint8_t* t) {
+  uint32_t w;
+  std::memcpy(&w, t, 4);
+  return w;
+}
+
+std::string bitsOf(const std::string& format, glm::vec4 v, const Profile& p = exactProfile()) {
+  uint8_t t[16] = {};
+  const Format f = parseFormat(format);
+  encodeTexel(f, v, p, t);
+  return texelBitsToString(f, t);
+}
+
+}  // namespace
+
+TEST_CASE("format: packed layouts put each channel where GL's _REV types do", "[format]") {
+  const Format f = makeFormat(FormatId::RGB10A2);
+  uint8_t t[4];
+  encodeTexel(f, {1, 0, 0, 0}, exactProfile(), t);
+  CHECK(word(t) == 0x000003ffu);  // R bits 0–9
+  encodeTexel(f, {0, 1, 0, 0}, exactProfile(), t);
+  CHECK(word(t) == 0x000ffc00u);  // G bits 10–19
+  encodeTexel(f, {0, 0, 1, 0}, exactProfile(), t);
+  CHECK(word(t) == 0x3ff00000u);  // B bits 20–29
+  encodeTexel(f, {0, 0, 0, 1}, exactProfile(), t);
+  CHECK(word(t) == 0xc0000000u);  // A bits 30–31
+  encodeTexel(f, {0, 0, 0, 0.5f}, exactProfile(), t);
+  CHECK(word(t) == 0x80000000u);  // 0.5·3 = 1.5 -> 2 (ties to even)
+
+  const Format g = makeFormat(FormatId::R11G11B10F);
+  encodeTexel(g, {1, 0, 0, 0}, exactProfile(), t);
+  CHECK(word(t) == 0x000003c0u);  // F11 1.0 = exponent 15 << 6, bits 0–10
+  encodeTexel(g, {0, 1, 0, 0}, exactProfile(), t);
+  CHECK(word(t) == 0x001e0000u);  // bits 11–21
+  encodeTexel(g, {0, 0, 1, 0}, exactProfile(), t);
+  CHECK(word(t) == 0x78000000u);  // F10 1.0 = 15 << 5, bits 22–31
+  CHECK(texelBitsToString(g, t) == "78000000");
+}
+
+TEST_CASE("format: array formats store little-endian channels in order", "[format]") {
+  CHECK(bitsOf("rgba16f", {1, 0.5f, 0, 1}) == "3c00 3800 0000 3c00");
+  CHECK(bitsOf("rgba8", {1, 0.5f, 0, 1}) == "ff 80 00 ff");
+  CHECK(bitsOf("rg32f", {1, -2, 0, 0}) == "3f800000 c0000000");
+  CHECK(bitsOf("r16f", {65520, 0, 0, 0}) == "7c00");
+  CHECK(bitsOf("r16f", {65520, 0, 0, 0}, llvmpipeProfile()) == "7bff");
+  CHECK(bitsOf("rgba:e8m7", {1, -2, 0.1f, 3}) == "3f80 c000 3dcd 4040");
+  CHECK(bitsOf("rg:e4m3fn", {448, -1000, 0, 0}) == "7e fe");
+  CHECK(parseFormat("rgba16f").bytesPerTexel() == 8);
+  CHECK(parseFormat("r11g11b10f").bytesPerTexel() == 4);
+  CHECK(parseFormat("rgba:e4m3fn").bytesPerTexel() == 4);
+  CHECK(parseFormat("rgb:e7m16").bytesPerTexel() == 12);
+}
+
+TEST_CASE("format: missing channels read as GL fills them (0, 0, 1)", "[format]") {
+  for (const char* name : {"r8", "r16f", "r32f", "rg8", "rg16f", "r11g11b10f", "r:e5m2"}) {
+    const Format f = parseFormat(name);
+    uint8_t t[16] = {};
+    encodeTexel(f, {0.5f, 0.25f, 0.75f, 0.125f}, exactProfile(), t);
+    const glm::vec4 v = decodeTexel(f, t);
+    INFO(name);
+    if (f.channels < 2) CHECK(v.g == 0.0f);
+    if (f.channels < 3) CHECK(v.b == 0.0f);
+    CHECK(v.a == 1.0f);
+  }
+}
+
+TEST_CASE("format: names parse and unknown names get the list", "[format]") {
+  for (const std::string& n : builtinFormatNames()) CHECK(parseFormat(n).name() == n);
+  CHECK(parseFormat("rgba:e8m7").name() == "rgba:e8m7");
+  try {
+    parseFormat("rgba16");
+    FAIL("no exception");
+  } catch (const std::invalid_argument& e) {
+    CHECK_THAT(e.what(), Catch::Contains("rgba16f") && Catch::Contains("unknown format 'rgba16'"));
+  }
+  CHECK_THROWS_AS(parseFormat("xyz:e5m2"), std::invalid_argument);
+}
+
+TEST_CASE("format: write masks on packed formats keep the other channels' bits", "[format]") {
+  const Format f = makeFormat(FormatId::RGB10A2);
+  uint8_t from[4], to[4];
+  encodeTexel(f, {1, 1, 1, 1}, exactProfile(), from);
+  encodeTexel(f, {0, 0, 0, 0}, exactProfile(), to);
+  mergeTexelChannels(f, from, to, 0b1010);  // G and A
+  CHECK(word(to) == 0xc00ffc00u);
+  const Format g = makeFormat(FormatId::R11G11B10F);
+  encodeTexel(g, {1, 1, 1, 0}, exactProfile(), from);
+  encodeTexel(g, {0, 0, 0, 0}, exactProfile(), to);
+  mergeTexelChannels(g, from, to, 0b100);  // B only
+  CHECK(word(to) == 0x78000000u);
+}
+
+TEST_CASE("image: clear and store write the converted bits everywhere", "[format]") {
+  Image img(parseFormat("rgba16f"), 5, 3);
+  img.clear({0.1f, 1, 2, 65520}, exactProfile());
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x) REQUIRE(texelBitsToString(img.format(), img.texel(x, y)) == "2e66 3c00 4000 7c00");
+  img.store(4, 2, {0, 0, 0, 0}, exactProfile());
+  CHECK(texelBitsToString(img.format(), img.texel(4, 2)) == "0000 0000 0000 0000");
+  CHECK(img.sizeBytes() == 5 * 3 * 8);
+  CHECK_THROWS_AS(Image(parseFormat("rgba8"), 0, 4), std::invalid_argument);
+  CHECK_THROWS_AS(Image(parseFormat("rgba8"), 20000, 4), std::invalid_argument);
+}

@@ -1,0 +1,200 @@
+// Per-fragment operations: primitive order, early/late depth, discard, depth writes, MRT,
+// write masks, full-screen passes, texel fetch between passes, viewport.
+#include <catch2/catch.hpp>
+
+#include <cstring>
+
+#include "oitref/blend.h"
+#include "render_helpers.h"
+#include "support.h"
+
+using namespace oitref;
+
+namespace {
+
+constexpr int W = 24, H = 20;
+
+glm::vec4 colorOf(uint32_t id) {
+  return {float((id * 37) % 101) / 100.0f, float((id * 53) % 97) / 96.0f, float((id * 17) % 89) / 88.0f,
+          0.05f + float(id % 9) / 10.0f};
+}
+
+Geometry overlappingTriangles(int n, uint32_t seed) {
+  test::BitStream rng(seed);
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i < n; ++i) {
+    const double z = rng.uniform(0.1f, 0.9f);
+    for (int k = 0; k < 3; ++k) pts.emplace_back(rng.uniform(-10, W + 10), rng.uniform(-10, H + 10), z);
+  }
+  return test::windowTriangles(pts, W, H);
+}
+
+const BlendState kOver = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
+                                              BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);
+
+}  // namespace
+
+TEST_CASE("fragment ops: each pixel blends its fragments in primitive submission order", "[fragment]") {
+  // OVER does not commute: the result is right only if the order is. The expectation is built by
+  // calling the blend function on each pixel in submission order, using the recorded coverage.
+  const int n = 120;
+  const Geometry g = overlappingTriangles(n, 5);
+  Renderer r(RendererOptions{3, 8});
+  for (const char* fmt : {"rgba16f", "rgba8", "r11g11b10f"}) {
+    const Format f = parseFormat(fmt);
+    Image img(f, W, H);
+    img.clear({0.2f, 0.3f, 0.4f, 1}, exactProfile());
+    Framebuffer fb;
+    fb.color[0] = &img;
+    PipelineState st;
+    st.blend[0] = kOver;
+    r.draw(fb, st, g, {[](const FragmentInput& in, FragmentOutput& o) { o.write(0, colorOf(in.primitiveId)); }});
+    // Coverage of each triangle alone.
+    std::vector<std::vector<float>> cover;
+    for (int t = 0; t < n; ++t) {
+      Geometry one;
+      one.clipPositions.assign(g.clipPositions.begin() + 3 * t, g.clipPositions.begin() + 3 * t + 3);
+      cover.push_back(test::coverageCount(r, one, W, H));
+    }
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        uint8_t want[16];
+        encodeTexel(f, {0.2f, 0.3f, 0.4f, 1}, exactProfile(), want);
+        for (int t = 0; t < n; ++t)
+          if (cover[size_t(t)][size_t(y * W + x)] == 1.0f)
+            blendIntoTexel(f, kOver, glm::vec4(0), exactProfile(), colorOf(uint32_t(t)), want);
+        REQUIRE(std::memcmp(want, img.texel(x, y), f.bytesPerTexel()) == 0);
+      }
+  }
+}
+
+TEST_CASE("fragment ops: depth test order, early and late tests, discard and depth writes", "[fragment]") {
+  Renderer r(RendererOptions{2, 8});
+  // Two full-screen triangles pairs: near (z .25) drawn after far (z .75).
+  const auto quad = [](double z) {
+    return std::vector<glm::dvec3>{{-1, -1, z}, {W + 1, -1, z}, {W + 1, H + 1, z},
+                                   {-1, -1, z}, {W + 1, H + 1, z}, {-1, H + 1, z}};
+  };
+  std::vector<glm::dvec3> both = quad(0.75);
+  for (const auto& p : quad(0.25)) both.push_back(p);
+  const Geometry g = test::windowTriangles(both, W, H);
+
+  auto render = [&](FragmentProgram prog, DepthState ds, DepthFormat df = DepthFormat::D24) {
+    Image img(makeFormat(FormatId::R32F), W, H);
+    img.clear(glm::vec4(-1), exactProfile());
+    DepthBuffer depth(df, W, H);
+    Framebuffer fb;
+    fb.color[0] = &img;
+    fb.depth = &depth;
+    PipelineState st;
+    st.depth = ds;
+    const DrawStats s = r.draw(fb, st, g, prog);
+    return std::make_tuple(img.fetch(3, 3).r, depth.depth(3, 3), s);
+  };
+  const DepthState less{true, CompareFunc::Less, true, false};
+  const auto writeId = [](const FragmentInput& in, FragmentOutput& o) { o.write(0, glm::vec4(float(in.primitiveId))); };
+
+  // Plain: the near pair (primitives 2, 3) wins; the depth buffer holds 0.25.
+  auto [c1, d1, s1] = render({writeId}, less);
+  CHECK(c1 >= 2.0f);
+  CHECK(d1 == Approx(0.25).margin(1e-7));
+  CHECK(s1.fragmentsShaded == s1.fragmentsRasterized);  // nothing fails: near comes second
+
+  // GREATER with the far pair first: the near pair fails; early tests skip its shading.
+  auto [c2, d2, s2] = render({writeId}, {true, CompareFunc::Greater, true, false});
+  CHECK(c2 == -1.0f);  // cleared depth is 1.0: nothing is greater
+  CHECK(s2.fragmentsShaded == 0);
+  CHECK(s2.fragmentsDepthFailed == s2.fragmentsRasterized);
+
+  // Depth test disabled: no depth writes even with the write mask on (GL §17.3.4).
+  auto [c3, d3, s3] = render({writeId}, {false, CompareFunc::Less, true, false});
+  CHECK(d3 == 1.0);
+
+  // A shader that discards the near pair: late test, the far pair's depth stays.
+  const FragmentProgram discardNear{[](const FragmentInput& in, FragmentOutput& o) {
+                                      if (in.primitiveId >= 2) o.discard();
+                                      else o.write(0, glm::vec4(float(in.primitiveId)));
+                                    },
+                                    true, false, false};
+  auto [c4, d4, s4] = render(discardNear, less);
+  CHECK(c4 < 2.0f);
+  CHECK(d4 == Approx(0.75).margin(1e-7));
+  CHECK(s4.fragmentsDiscarded > 0);
+  // Forced early fragment tests: the depth write happens before the discard.
+  FragmentProgram early = discardNear;
+  early.earlyFragmentTests = true;
+  auto [c5, d5, s5] = render(early, less);
+  CHECK(c5 < 2.0f);
+  CHECK(d5 == Approx(0.25).margin(1e-7));
+
+  // gl_FragDepth: the far pair writes depth 0.1, so the near pair (0.25) fails LESS.
+  const FragmentProgram writesDepth{[](const FragmentInput& in, FragmentOutput& o) {
+                                      if (in.primitiveId < 2) o.setDepth(0.1f);
+                                      o.write(0, glm::vec4(float(in.primitiveId)));
+                                    },
+                                    false, true, false};
+  auto [c6, d6, s6] = render(writesDepth, less, DepthFormat::D32F);
+  CHECK(c6 < 2.0f);
+  CHECK(d6 == double(0.1f));
+}
+
+TEST_CASE("fragment ops: eight targets of different formats, each with its own blend state", "[fragment]") {
+  Renderer r(RendererOptions{2, 8});
+  const char* formats[8] = {"rgba8", "rgba16f", "r32f", "rgb10a2", "r11g11b10f", "rg16f", "rgba:e8m7", "r8"};
+  std::vector<Image> images;
+  for (const char* f : formats) images.emplace_back(parseFormat(f), W, H);
+  Framebuffer fb;
+  PipelineState st;
+  for (int i = 0; i < 8; ++i) {
+    images[size_t(i)].clear(glm::vec4(0.5f), exactProfile());
+    fb.color[size_t(i)] = &images[size_t(i)];
+    st.blend[size_t(i)] = i % 2 ? BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One) : BlendState{};
+  }
+  const Geometry g = test::windowTriangles({{-1, -1, .5}, {60, -1, .5}, {-1, 60, .5}}, W, H);
+  r.draw(fb, st, g, {[](const FragmentInput&, FragmentOutput& o) {
+           for (int t = 0; t < 8; ++t)
+             if (t != 5) o.write(t, glm::vec4(0.125f * float(t + 1)));  // target 5 not written
+         }});
+  for (int t = 0; t < 8; ++t) {
+    const Format f = images[size_t(t)].format();
+    const glm::vec4 src(0.125f * float(t + 1));
+    uint8_t want[16];
+    encodeTexel(f, glm::vec4(0.5f), exactProfile(), want);
+    if (t != 5) blendIntoTexel(f, st.blend[size_t(t)], glm::vec4(0), exactProfile(), src, want);
+    INFO("target " << t << " " << f.name());
+    CHECK(std::memcmp(want, images[size_t(t)].texel(2, 2), f.bytesPerTexel()) == 0);
+  }
+}
+
+TEST_CASE("fragment ops: full-screen passes, texel fetch of an earlier pass, viewport", "[fragment]") {
+  Renderer r(RendererOptions{2, 8});
+  Image first(makeFormat(FormatId::RGBA16F), W, H), second(makeFormat(FormatId::RGBA32F), W, H);
+  first.clear(glm::vec4(0), exactProfile());
+  second.clear(glm::vec4(0), exactProfile());
+  Framebuffer fb1;
+  fb1.color[0] = &first;
+  PipelineState st;
+  DrawStats s = r.drawFullscreen(fb1, st, {[](const FragmentInput& in, FragmentOutput& o) {
+                                   o.write(0, {in.fragCoord.x, in.fragCoord.y, float(in.x * 100 + in.y), 1});
+                                 }});
+  CHECK(s.fragmentsShaded == uint64_t(W * H));
+  Framebuffer fb2;
+  fb2.color[0] = &second;
+  st.viewport = {4, 3, 10, 8};
+  r.drawFullscreen(fb2, st, {[&](const FragmentInput& in, FragmentOutput& o) {
+                     o.write(0, first.fetch(in.x, in.y) * 2.0f);
+                   }});
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const glm::vec4 v = second.fetch(x, y);
+      const bool inside = x >= 4 && x < 14 && y >= 3 && y < 11;
+      INFO("pixel " << x << "," << y);
+      if (inside) {
+        CHECK(v.x == 2 * (x + 0.5f));
+        CHECK(v.y == 2 * (y + 0.5f));
+        CHECK(v.z == 2 * float(x * 100 + y));
+      } else {
+        CHECK(v.x == 0.0f);
+      }
+    }
+}

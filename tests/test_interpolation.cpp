@@ -1,0 +1,158 @@
+// Attribute and depth interpolation against long-double closed forms.
+//  * Unclipped triangles: from the snapped window positions, λ_i by areas, depth Σλ_i z_i,
+//    perspective-correct b_i = (λ_i/w_i)/Σ(λ_j/w_j) (GL 4.6 eq. 14.9, 14.10).
+//  * Clipped triangles: homogeneous barycentrics of the *original* triangle solved from its clip
+//    coordinates (Olano–Greer), which never clips — a different route to the same values.
+// Unclipped, on-grid vertices: the fp32 results must be within 1 ulp of the closed form.
+// Clipped: the new vertices are snapped to the sub-pixel grid like any other, moving each by at
+// most δ = ½·√2·2^-8 pixel; interpolation (as on GPUs) uses the snapped triangle. Moving one
+// vertex by δ changes an attribute at a covered pixel by at most |∇a|·δ (its weight is ≤ 1), so
+// the bound is 3·|∇a|·δ, with |∇a| the screen-space gradient of the closed form, plus 8 ulps.
+#include <catch2/catch.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "render_helpers.h"
+#include "support.h"
+
+using namespace oitref;
+using ld = long double;
+
+namespace {
+
+struct Captured {
+  Image attr, misc;  // attr: rgba32f attributes; misc: (depth, viewDepth, primitiveId, 1)
+};
+
+Captured capture(Renderer& r, const Geometry& g, int w, int h) {
+  Captured c{Image(makeFormat(FormatId::RGBA32F), w, h), Image(makeFormat(FormatId::RGBA32F), w, h)};
+  c.attr.clear(glm::vec4(NAN), exactProfile());
+  c.misc.clear(glm::vec4(NAN), exactProfile());
+  Framebuffer fb;
+  fb.color[0] = &c.attr;
+  fb.color[1] = &c.misc;
+  r.draw(fb, PipelineState{}, g, {[](const FragmentInput& in, FragmentOutput& o) {
+           o.write(0, in.vec4At(0));
+           o.write(1, {in.depth, in.viewDepth, float(in.primitiveId), 1.0f});
+         }});
+  return c;
+}
+
+double ulpsApart(float got, ld want) {
+  const float wf = float(want);
+  const double ulp = std::max(double(std::nextafter(std::fabs(wf), INFINITY) - std::fabs(wf)), 1e-30);
+  return double(std::fabs(ld(got) - want) / ulp);
+}
+
+}  // namespace
+
+TEST_CASE("interpolation: perspective-correct attributes and window-linear depth, unclipped", "[interp]") {
+  Renderer r(RendererOptions{2, 16});
+  const int w = 64, h = 48;
+  test::BitStream rng(17);
+  double worst = 0, worstDepth = 0;
+  int checked = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    Geometry g;
+    g.attributeCount = 4;
+    ld X[3], Y[3], Z[3], W[3], A[3][4];
+    for (int k = 0; k < 3; ++k) {
+      // Window position on the 1/256 grid, depth in (0,1), w in [0.2, 50]: strong perspective.
+      const double x = std::round(rng.uniform(-8, 72) * 256) / 256, y = std::round(rng.uniform(-8, 56) * 256) / 256;
+      const float z = rng.uniform(0.05f, 0.95f), ww = rng.uniform(0.2f, 50.0f);
+      const glm::vec4 ndc = test::windowToClip(x, y, z, w, h);
+      g.clipPositions.push_back(glm::vec4(ndc.x * ww, ndc.y * ww, ndc.z * ww, ww));
+      X[k] = x, Y[k] = y, W[k] = ww;
+      // The pipeline computes window z from the fp32 clip coordinates: so does the oracle.
+      Z[k] = 0.5L * (ld(g.clipPositions.back().z) / ld(ww)) + 0.5L;
+      for (int a = 0; a < 4; ++a) {
+        A[k][a] = rng.uniform(-100, 100);
+        g.attributes.push_back(float(A[k][a]));
+      }
+    }
+    const Captured c = capture(r, g, w, h);
+    const ld area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    for (int py = 0; py < h; ++py)
+      for (int px = 0; px < w; ++px) {
+        const glm::vec4 got = c.attr.fetch(px, py);
+        if (std::isnan(got.x)) continue;
+        const ld sx = px + 0.5L, sy = py + 0.5L;
+        ld l[3];
+        for (int i = 0; i < 3; ++i) {
+          const int a = (i + 1) % 3, b = (i + 2) % 3;
+          l[i] = ((X[b] - X[a]) * (sy - Y[a]) - (Y[b] - Y[a]) * (sx - X[a])) / area;
+        }
+        ld sum = 0;
+        for (int i = 0; i < 3; ++i) sum += l[i] / W[i];
+        for (int a = 0; a < 4; ++a) {
+          ld v = 0;
+          for (int i = 0; i < 3; ++i) v += (l[i] / W[i]) / sum * A[i][a];
+          worst = std::max(worst, ulpsApart(got[a], v) * (std::fabs(v) > 1e-3L ? 1.0 : 0.0));
+          REQUIRE(std::fabs(ld(got[a]) - v) <= 1e-5L * 100);  // absolute sanity bound
+        }
+        const ld depth = l[0] * Z[0] + l[1] * Z[1] + l[2] * Z[2];
+        const glm::vec4 misc = c.misc.fetch(px, py);
+        worstDepth = std::max(worstDepth, ulpsApart(misc.x, depth));
+        REQUIRE(ulpsApart(misc.y, 1 / sum) <= 1.0);  // view depth = interpolated w
+        ++checked;
+      }
+  }
+  INFO("worst attribute error " << worst << " ulps, depth " << worstDepth << " ulps over " << checked << " fragments");
+  CHECK(checked > 5000);
+  CHECK(worst <= 1.0);
+  CHECK(worstDepth <= 1.0);
+}
+
+TEST_CASE("interpolation: clipped triangles interpolate as the original triangle", "[interp]") {
+  Renderer r(RendererOptions{2, 16});
+  const int w = 48, h = 40;
+  const glm::dmat4 proj = glm::perspective(glm::radians(75.0), double(w) / h, 0.3, 30.0);
+  test::BitStream rng(23);
+  double worst = 0;
+  int checked = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    Geometry g;
+    g.attributeCount = 4;
+    glm::dvec4 clip[3];
+    ld A[3][4];
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3 p(rng.uniform(-5, 5), rng.uniform(-5, 5), k == 0 ? rng.uniform(-0.2f, 1.0f) : rng.uniform(-15, -1));
+      clip[k] = glm::dvec4(glm::vec4(proj * glm::dvec4(p, 1)));  // the fp32 values the pipeline sees
+      g.clipPositions.push_back(glm::vec4(clip[k]));
+      for (int a = 0; a < 4; ++a) {
+        A[k][a] = rng.uniform(-1, 1);
+        g.attributes.push_back(float(A[k][a]));
+      }
+    }
+    const Captured c = capture(r, g, w, h);
+    // Homogeneous barycentrics: Σ b_i (x_i, y_i, w_i) ∝ (x_ndc, y_ndc, 1).
+    const glm::dmat3 M(clip[0].x, clip[0].y, clip[0].w, clip[1].x, clip[1].y, clip[1].w, clip[2].x, clip[2].y, clip[2].w);
+    const glm::dmat3 inv = glm::inverse(M);
+    auto closedForm = [&](double sx, double sy, int a) {
+      glm::dvec3 b = inv * glm::dvec3(2 * sx / w - 1, 2 * sy / h - 1, 1);
+      b /= (b.x + b.y + b.z);
+      return ld(b.x) * A[0][a] + ld(b.y) * A[1][a] + ld(b.z) * A[2][a];
+    };
+    const double delta = 0.5 * std::sqrt(2.0) / 256.0, step = 1.0 / 16;
+    for (int py = 0; py < h; ++py)
+      for (int px = 0; px < w; ++px) {
+        const glm::vec4 got = c.attr.fetch(px, py);
+        if (std::isnan(got.x)) continue;
+        const double sx = px + 0.5, sy = py + 0.5;
+        for (int a = 0; a < 4; ++a) {
+          const ld v = closedForm(sx, sy, a);
+          ld gradient = 0;
+          for (auto [dx, dy] : {std::pair{step, 0.0}, {-step, 0.0}, {0.0, step}, {0.0, -step}})
+            gradient = std::max(gradient, std::fabs(closedForm(sx + dx, sy + dy, a) - v) / ld(step));
+          const ld bound = 3 * gradient * ld(delta) * 1.25L + 8 * ld(std::nextafter(std::fabs(got[a]), INFINITY) - std::fabs(got[a]));
+          const ld err = std::fabs(ld(got[a]) - v);
+          worst = std::max(worst, double(err / bound));
+          if (err > bound) FAIL("trial " << trial << " pixel " << px << "," << py << " attribute " << a << ": got " << got[a]
+                                         << ", closed form " << double(v) << ", bound " << double(bound));
+        }
+        ++checked;
+      }
+  }
+  INFO("worst error " << worst << " of the bound over " << checked << " fragments");
+  CHECK(checked > 3000);
+}
