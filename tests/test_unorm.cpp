@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "blend/blend_math.h"
 #include "oitref/unorm.h"
 #include "oracles.h"
 #include "support.h"
@@ -94,4 +95,18 @@ TEST_CASE("unorm8: exact rule matches the oracle on every float in [0,1]", "[.][
   });
   CHECK(mismatches == 0);
   CHECK(disputed == 128);
+}
+
+TEST_CASE("unorm: the four-wide encoder gives encodeUnorm's bits", "[unorm]") {
+  std::vector<float> inputs = disputedUnorm8Inputs();
+  oitref::test::BitStream rng(123);
+  for (int i = 0; i < 200000; ++i) inputs.push_back(rng.uniform(-0.5f, 1.5f));
+  for (float v : {NAN, -NAN, INFINITY, -INFINITY, 0.0f, -0.0f, 1.0f, 0.5f}) inputs.push_back(v);
+  for (size_t i = 0; i + 4 <= inputs.size(); ++i)
+    for (int b : {8, 10, 2})
+      for (UnormRounding r : {UnormRounding::ExactNearestEven, UnormRounding::Fp32Product}) {
+        const detail::v4f v{inputs[i], inputs[i + 1], inputs[i + 2], inputs[i + 3]};
+        const detail::v4i got = detail::encodeUnorm4(v, b, r);
+        for (int k = 0; k < 4; ++k) REQUIRE(uint32_t(got[k]) == encodeUnorm(v[k], b, r));
+      }
 }

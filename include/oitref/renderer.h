@@ -52,6 +52,7 @@ struct RendererOptions {
   int tileSize = 64;    // pixels; a power of two from 8 to 256
 };
 
+// A renderer owns its worker arena and reuses its buffers between draws; one draw at a time.
 class Renderer {
  public:
   explicit Renderer(RendererOptions options = {});

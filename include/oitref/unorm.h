@@ -12,15 +12,29 @@
 // Decoding (GL 4.6 §2.3.5.1): k / (2^b − 1), correctly rounded to fp32.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 namespace oitref {
 
 enum class UnormRounding : uint8_t { ExactNearestEven, Fp32Product };
 
-uint32_t encodeUnorm(float value, int bits, UnormRounding rounding = UnormRounding::ExactNearestEven);
-float decodeUnorm(uint32_t code, int bits);
 // Clamp to [0,1] with NaN -> 0: the clamp GL applies to fixed-point blending inputs and outputs.
 inline float clampUnit(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; }
+
+inline uint32_t encodeUnorm(float value, int bits, UnormRounding rounding = UnormRounding::ExactNearestEven) {
+  const uint32_t maxCode = (uint32_t(1) << bits) - 1;
+  const float v = clampUnit(value);
+  if (rounding == UnormRounding::Fp32Product) {
+    const float product = v * float(maxCode);  // rounded to fp32 first
+    return uint32_t(std::nearbyint(product));  // default FP environment: ties to even
+  }
+  // f has 24 significant bits, 2^b−1 at most b: the double product is exact for b ≤ 29.
+  return uint32_t(std::nearbyint(double(v) * double(maxCode)));
+}
+
+inline float decodeUnorm(uint32_t code, int bits) {
+  return float(code) / float((uint32_t(1) << bits) - 1);  // one correctly rounded division
+}
 
 }  // namespace oitref

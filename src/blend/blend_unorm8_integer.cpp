@@ -32,8 +32,8 @@ void blendUnorm8Integer(int channels, const BlendState& state, const glm::vec4& 
   for (int ch = 0; ch < channels; ++ch) {
     if (!(writeMask & (1u << ch))) continue;
     const bool alpha = ch == 3;
-    const uint32_t sf = selectBlendFactor(alpha ? state.srcAlpha : state.srcRgb, ch, s, d, ad, c, 255u);
-    const uint32_t df = selectBlendFactor(alpha ? state.dstAlpha : state.dstRgb, ch, s, d, ad, c, 255u);
+    const uint32_t sf = blendFactorRow(alpha ? state.srcAlpha : state.srcRgb, s, d, ad, c, 255u)[size_t(ch)];
+    const uint32_t df = blendFactorRow(alpha ? state.dstAlpha : state.dstRgb, s, d, ad, c, 255u)[size_t(ch)];
     texel[ch] = uint8_t(equation8(alpha ? state.equationAlpha : state.equationRgb, s[ch], d[ch], sf, df));
   }
 }

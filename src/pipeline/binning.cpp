@@ -1,7 +1,6 @@
 #include "pipeline/binning.h"
 
 #include <algorithm>
-#include <cstring>
 
 namespace oitref::detail {
 namespace {
@@ -31,6 +30,9 @@ void setupChunk(const Geometry& geometry, const SetupContext& context, const Til
                 SetupChunk& out) {
   const size_t begin = chunk * kSetupChunk;
   const size_t end = std::min(begin + kSetupChunk, geometry.triangleCount());
+  out.triangles.clear();
+  out.clipBarycentrics.clear();
+  out.counters = {};
   out.triangles.reserve(end - begin);
   for (size_t t = begin; t < end; ++t)
     setupPrimitive(geometry, t, context, out.triangles, out.clipBarycentrics, out.counters);
@@ -42,55 +44,38 @@ void setupChunk(const Geometry& geometry, const SetupContext& context, const Til
   }
 }
 
-void layoutBins(std::vector<SetupChunk>& chunks, const TileGrid& grid, BinnedTriangles& out,
-                std::vector<uint32_t>& chunkTriangleOffset, std::vector<uint32_t>& chunkClipOffset,
-                std::vector<uint32_t>& cursor) {
-  const size_t tiles = size_t(grid.count());
-  chunkTriangleOffset.resize(chunks.size());
-  chunkClipOffset.resize(chunks.size());
-  uint32_t triangles = 0, clips = 0;
-  for (size_t c = 0; c < chunks.size(); ++c) {
-    chunkTriangleOffset[c] = triangles;
-    chunkClipOffset[c] = clips;
-    triangles += uint32_t(chunks[c].triangles.size());
-    clips += uint32_t(chunks[c].clipBarycentrics.size());
-    out.counters.rasterized += chunks[c].counters.rasterized;
-    out.counters.nonFinite += chunks[c].counters.nonFinite;
+void layoutBins(const TileGrid& grid, BinnedTriangles& bins) {
+  const size_t tiles = size_t(grid.count()), chunks = bins.chunks.size();
+  bins.counters = {};
+  for (const SetupChunk& c : bins.chunks) {
+    bins.counters.rasterized += c.counters.rasterized;
+    bins.counters.nonFinite += c.counters.nonFinite;
   }
-  out.triangles.resize(triangles);
-  out.clipBarycentrics.resize(clips);
   // Prefix sums in (tile, chunk) order: cursor[c·tiles + tile] is where chunk c writes into tile.
-  cursor.resize(chunks.size() * tiles);
-  out.tileStart.assign(tiles + 1, 0);
+  bins.cursor.resize(chunks * tiles);
+  bins.tileStart.assign(tiles + 1, 0);
   uint32_t offset = 0;
   for (size_t tile = 0; tile < tiles; ++tile) {
-    out.tileStart[tile] = offset;
-    for (size_t c = 0; c < chunks.size(); ++c) {
-      cursor[c * tiles + tile] = offset;
-      offset += chunks[c].tileCounts[tile];
+    bins.tileStart[tile] = offset;
+    for (size_t c = 0; c < chunks; ++c) {
+      bins.cursor[c * tiles + tile] = offset;
+      offset += bins.chunks[c].tileCounts[tile];
     }
   }
-  out.tileStart[tiles] = offset;
-  out.tileTriangles.resize(offset);
+  bins.tileStart[tiles] = offset;
+  bins.tileTriangles.resize(offset);
 }
 
-void scatterChunk(SetupChunk& chunk, size_t chunkIndex, const TileGrid& grid, uint32_t triangleOffset,
-                  uint32_t clipOffset, std::vector<uint32_t>& cursor, BinnedTriangles& out) {
+void scatterChunk(size_t chunk, const TileGrid& grid, BinnedTriangles& bins) {
   const size_t tiles = size_t(grid.count());
-  uint32_t* myCursor = cursor.data() + chunkIndex * tiles;
-  for (size_t i = 0; i < chunk.triangles.size(); ++i) {
-    SetupTriangle& tri = chunk.triangles[i];
-    if (tri.clipSlot >= 0) tri.clipSlot += int32_t(clipOffset);
-    const uint32_t index = triangleOffset + uint32_t(i);
-    out.triangles[index] = tri;
-    const TileRange r = tilesTouched(tri.bounds, grid);
+  uint32_t* cursor = bins.cursor.data() + chunk * tiles;
+  const std::vector<SetupTriangle>& triangles = bins.chunks[chunk].triangles;
+  for (size_t i = 0; i < triangles.size(); ++i) {
+    const uint32_t id = uint32_t(chunk << 16) | uint32_t(i);
+    const TileRange r = tilesTouched(triangles[i].bounds, grid);
     for (int ty = r.ty0; ty < r.ty1; ++ty)
-      for (int tx = r.tx0; tx < r.tx1; ++tx) out.tileTriangles[myCursor[size_t(ty) * grid.tilesX + tx]++] = index;
+      for (int tx = r.tx0; tx < r.tx1; ++tx) bins.tileTriangles[cursor[size_t(ty) * grid.tilesX + tx]++] = id;
   }
-  if (!chunk.clipBarycentrics.empty())
-    std::memcpy(out.clipBarycentrics.data() + clipOffset, chunk.clipBarycentrics.data(),
-                chunk.clipBarycentrics.size() * sizeof(ClipBarycentrics));
-  chunk = SetupChunk{};  // release memory early
 }
 
 }  // namespace oitref::detail

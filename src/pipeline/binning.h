@@ -1,9 +1,10 @@
 // Stage 3: binning — which triangles touch which tile, in submission order.
 //
 // The viewport is cut into square tiles. Setup runs over fixed-size chunks of input triangles in
-// parallel; binning is a counting sort (count per chunk and tile, prefix sums in (tile, chunk)
-// order, scatter), so each tile's list holds its triangles in exactly the order they were
-// submitted, whatever the number of threads.
+// parallel (the split never depends on the thread count); each chunk keeps its own set-up
+// triangles, named by (chunk << 16 | index in chunk). Binning is a counting sort: count per
+// chunk and tile, prefix sums in (tile, chunk) order, scatter — so each tile's list holds its
+// triangles in exactly the order they were submitted, whatever the number of threads.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +13,10 @@
 #include "pipeline/setup.h"
 
 namespace oitref::detail {
+
+// 4096 input triangles a chunk; clipping makes at most 14 of one, so a chunk holds < 2^16.
+inline constexpr size_t kSetupChunk = 4096;
+inline constexpr size_t kMaxTriangles = size_t(1) << 28;  // 2^16 chunks
 
 struct TileGrid {
   int tileSize = 64;
@@ -23,51 +28,40 @@ struct TileGrid {
   PixelRect tileRect(int tile) const;
 };
 
-struct BinnedTriangles {
-  std::vector<SetupTriangle> triangles;        // all set-up triangles, in submission order
-  std::vector<ClipBarycentrics> clipBarycentrics;
-  std::vector<uint32_t> tileStart;             // count()+1 offsets into tileTriangles
-  std::vector<uint32_t> tileTriangles;         // triangle indices, per tile in submission order
-  SetupCounters counters;
-};
-
-// Runs setup over every triangle of `geometry` and bins the results. `parallelFor(n, body)`
-// must call body(i) once for each i in [0, n), in any order on any thread.
-template <typename ParallelFor>
-BinnedTriangles setupAndBin(const Geometry& geometry, const SetupContext& context, const TileGrid& grid,
-                            ParallelFor&& parallelFor);
-
-// Chunk size for setup: fixed, so the work split never depends on the thread count.
-inline constexpr size_t kSetupChunk = 8192;
-
-// Implementation pieces (binning.cpp).
 struct SetupChunk {
   std::vector<SetupTriangle> triangles;
   std::vector<ClipBarycentrics> clipBarycentrics;
   std::vector<uint32_t> tileCounts;
   SetupCounters counters;
 };
+
+// Kept by the renderer between draws so its buffers are reused.
+struct BinnedTriangles {
+  std::vector<SetupChunk> chunks;
+  std::vector<uint32_t> tileStart;      // count()+1 offsets into tileTriangles
+  std::vector<uint32_t> tileTriangles;  // triangle ids, per tile in submission order
+  std::vector<uint32_t> cursor;         // scratch for the scatter
+  SetupCounters counters;
+
+  const SetupChunk& chunkOf(uint32_t id) const { return chunks[id >> 16]; }
+  const SetupTriangle& triangle(uint32_t id) const { return chunks[id >> 16].triangles[id & 0xffff]; }
+};
+
 void setupChunk(const Geometry& geometry, const SetupContext& context, const TileGrid& grid, size_t chunk,
                 SetupChunk& out);
-void layoutBins(std::vector<SetupChunk>& chunks, const TileGrid& grid, BinnedTriangles& out,
-                std::vector<uint32_t>& chunkTriangleOffset, std::vector<uint32_t>& chunkClipOffset,
-                std::vector<uint32_t>& cursor);
-void scatterChunk(SetupChunk& chunk, size_t chunkIndex, const TileGrid& grid, uint32_t triangleOffset,
-                  uint32_t clipOffset, std::vector<uint32_t>& cursor, BinnedTriangles& out);
+void layoutBins(const TileGrid& grid, BinnedTriangles& bins);
+void scatterChunk(size_t chunk, const TileGrid& grid, BinnedTriangles& bins);
 
+// Runs setup over every triangle of `geometry` and bins the results into `bins`.
+// `parallelFor(n, body)` must call body(i) once for each i in [0, n), on any thread.
 template <typename ParallelFor>
-BinnedTriangles setupAndBin(const Geometry& geometry, const SetupContext& context, const TileGrid& grid,
-                            ParallelFor&& parallelFor) {
+void setupAndBin(const Geometry& geometry, const SetupContext& context, const TileGrid& grid, BinnedTriangles& bins,
+                 ParallelFor&& parallelFor) {
   const size_t chunkCount = (geometry.triangleCount() + kSetupChunk - 1) / kSetupChunk;
-  std::vector<SetupChunk> chunks(chunkCount);
-  parallelFor(chunkCount, [&](size_t c) { setupChunk(geometry, context, grid, c, chunks[c]); });
-  BinnedTriangles out;
-  std::vector<uint32_t> triangleOffset, clipOffset, cursor;
-  layoutBins(chunks, grid, out, triangleOffset, clipOffset, cursor);
-  parallelFor(chunkCount, [&](size_t c) {
-    scatterChunk(chunks[c], c, grid, triangleOffset[c], clipOffset[c], cursor, out);
-  });
-  return out;
+  bins.chunks.resize(chunkCount);
+  parallelFor(chunkCount, [&](size_t c) { setupChunk(geometry, context, grid, c, bins.chunks[c]); });
+  layoutBins(grid, bins);
+  parallelFor(chunkCount, [&](size_t c) { scatterChunk(c, grid, bins); });
 }
 
 }  // namespace oitref::detail

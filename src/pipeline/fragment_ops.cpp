@@ -1,21 +1,24 @@
 #include "pipeline/fragment_ops.h"
 
-#include "oitref/blend.h"
 
 namespace oitref::detail {
 
 FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program,
-                             const Geometry* geometry, const std::vector<ClipBarycentrics>* clipBarycentrics)
-    : fb_(fb), state_(state), program_(program), geometry_(geometry), clipBarycentrics_(clipBarycentrics) {
+                             const Geometry* geometry)
+    : fb_(fb), state_(state), program_(program), geometry_(geometry) {
   earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
-  for (int t = 0; t < kMaxColorTargets; ++t)
-    if (fb.color[t]) boundTargets_ |= 1u << t;
+  blenders_.reserve(kMaxColorTargets);
+  for (int t = 0; t < kMaxColorTargets; ++t) {
+    if (fb.color[size_t(t)]) boundTargets_ |= 1u << t;
+    blenders_.emplace_back(fb.color[size_t(t)] ? fb.color[size_t(t)]->format() : Format{}, state.blend[size_t(t)],
+                           state.blendConstant, state.profile);
+  }
   const int n = geometry ? geometry->attributeCount : 0;
   vertexAttributes_.assign(size_t(3 * n), 0.0);
   attributes_.assign(size_t(n), 0.0f);
 }
 
-void FragmentStage::beginTriangle(const SetupTriangle& t) {
+void FragmentStage::beginTriangle(const SetupTriangle& t, const std::vector<ClipBarycentrics>& clipBarycentrics) {
   triangle_ = &t;
   const int n = geometry_->attributeCount;
   if (n == 0) return;
@@ -26,7 +29,7 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
     }
     return;
   }
-  const ClipBarycentrics& cb = (*clipBarycentrics_)[size_t(t.clipSlot)];
+  const ClipBarycentrics& cb = clipBarycentrics[size_t(t.clipSlot)];
   const float* src[3] = {geometry_->vertexAttributes(t.vertexIndex[0]), geometry_->vertexAttributes(t.vertexIndex[1]),
                          geometry_->vertexAttributes(t.vertexIndex[2])};
   for (int i = 0; i < 3; ++i)
@@ -34,17 +37,20 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
       vertexAttributes_[size_t(i * n + k)] = cb.b[i][0] * src[0][k] + cb.b[i][1] * src[1][k] + cb.b[i][2] * src[2][k];
 }
 
+void FragmentStage::interpolateAttributes(const double* b) {
+  const int n = int(attributes_.size());
+  const double* va = vertexAttributes_.data();
+  for (int k = 0; k < n; ++k) attributes_[size_t(k)] = float(b[0] * va[k] + b[1] * va[n + k] + b[2] * va[2 * n + k]);
+}
+
 void FragmentStage::fragment(int x, int y, const int64_t e[3]) {
   const SetupTriangle& t = *triangle_;
-  const double invArea = 1.0 / double(t.area2);
-  const double l0 = double(e[0]) * invArea, l1 = double(e[1]) * invArea, l2 = double(e[2]) * invArea;
+  const double l0 = double(e[0]) * t.invArea2, l1 = double(e[1]) * t.invArea2, l2 = double(e[2]) * t.invArea2;
   const double z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
   const double p0 = l0 * t.invW[0], p1 = l1 * t.invW[1], p2 = l2 * t.invW[2];
   const double w = 1.0 / (p0 + p1 + p2);
-  const double b0 = p0 * w, b1 = p1 * w, b2 = p2 * w;
+  const double b[3] = {p0 * w, p1 * w, p2 * w};
   const int n = int(attributes_.size());
-  const double* va = vertexAttributes_.data();
-  for (int k = 0; k < n; ++k) attributes_[size_t(k)] = float(b0 * va[k] + b1 * va[n + k] + b2 * va[2 * n + k]);
 
   FragmentInput in;
   in.x = x;
@@ -57,7 +63,7 @@ void FragmentStage::fragment(int x, int y, const int64_t e[3]) {
   in.attributes = attributes_.data();
   in.attributeCount = n;
   ++counters_.rasterized;
-  process(in, z);
+  process(in, z, b);
 }
 
 void FragmentStage::fullscreenPixel(int x, int y) {
@@ -68,10 +74,11 @@ void FragmentStage::fullscreenPixel(int x, int y) {
   in.depth = 0.0f;
   in.viewDepth = 1.0f;
   ++counters_.rasterized;
-  process(in, 0.0);
+  process(in, 0.0, nullptr);
 }
 
-void FragmentStage::process(FragmentInput& in, double z) {
+// Attributes are interpolated only for fragments that reach the shader.
+void FragmentStage::process(FragmentInput& in, double z, const double* perspectiveBary) {
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
   const bool testing = depth != nullptr && ds.testEnabled;  // GL §17.3.4: no test, no depth write
@@ -85,6 +92,7 @@ void FragmentStage::process(FragmentInput& in, double z) {
     if (ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
   }
 
+  if (perspectiveBary) interpolateAttributes(perspectiveBary);
   output_.reset();
   program_.shader(in, output_);
   ++counters_.shaded;
@@ -107,9 +115,7 @@ void FragmentStage::process(FragmentInput& in, double z) {
   while (targets) {
     const int t = __builtin_ctz(targets);
     targets &= targets - 1;
-    Image& image = *fb_.color[size_t(t)];
-    blendIntoTexel(image.format(), state_.blend[size_t(t)], state_.blendConstant, state_.profile, output_.color(t),
-                   image.texel(in.x, in.y));
+    blenders_[size_t(t)].blend(output_.color(t), fb_.color[size_t(t)]->texel(in.x, in.y));
   }
 }
 

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "blend/target_blender.h"
 #include "oitref/renderer.h"
 #include "pipeline/setup.h"
 
@@ -24,11 +25,11 @@ struct FragmentCounters {
 
 class FragmentStage {
  public:
-  FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry,
-                const std::vector<ClipBarycentrics>* clipBarycentrics);
+  FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry);
 
-  // Prepares the triangle's per-vertex attributes (double) before its fragments arrive.
-  void beginTriangle(const SetupTriangle& triangle);
+  // Prepares the triangle's per-vertex attributes (double) before its fragments arrive;
+  // `clipBarycentrics` is the array its clipSlot refers to.
+  void beginTriangle(const SetupTriangle& triangle, const std::vector<ClipBarycentrics>& clipBarycentrics);
   // A covered pixel centre with its (unbiased) edge-function values.
   void fragment(int x, int y, const int64_t e[3]);
   // A full-screen pass pixel: window depth 0, no attributes.
@@ -37,16 +38,17 @@ class FragmentStage {
   const FragmentCounters& counters() const { return counters_; }
 
  private:
-  void process(FragmentInput& in, double z);
+  void process(FragmentInput& in, double z, const double* perspectiveBary);
+  void interpolateAttributes(const double* b);
 
   Framebuffer& fb_;
   const PipelineState& state_;
   const FragmentProgram& program_;
   const Geometry* geometry_;
-  const std::vector<ClipBarycentrics>* clipBarycentrics_;
   const SetupTriangle* triangle_ = nullptr;
   bool earlyTests_;
   unsigned boundTargets_ = 0;
+  std::vector<TargetBlender> blenders_;  // per bound target, in target order
   std::vector<double> vertexAttributes_;  // 3 × attributeCount
   std::vector<float> attributes_;         // interpolated, for the shader
   FragmentOutput output_;

@@ -7,6 +7,9 @@ namespace oitref {
 
 void Geometry::validate() const {
   const size_t n = vertexCount();
+  if (triangleCount() > (size_t(1) << 28))
+    throw std::invalid_argument("geometry: " + std::to_string(triangleCount()) +
+                                " triangles in one draw; at most 2^28 are supported");
   if (attributeCount < 0) throw std::invalid_argument("geometry: negative attributeCount");
   if (attributes.size() != n * size_t(attributeCount))
     throw std::invalid_argument("geometry: " + std::to_string(attributes.size()) + " attribute floats for " +

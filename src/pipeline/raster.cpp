@@ -8,7 +8,8 @@ void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, in
                    FragmentStage& stage) {
   const int64_t S = int64_t(1) << subpixelBits;
   for (uint32_t k = bins.tileStart[size_t(tile)]; k < bins.tileStart[size_t(tile) + 1]; ++k) {
-    const SetupTriangle& t = bins.triangles[bins.tileTriangles[k]];
+    const uint32_t id = bins.tileTriangles[k];
+    const SetupTriangle& t = bins.triangle(id);
     const int x0 = std::max(r.x0, t.bounds.x0), x1 = std::min(r.x1, t.bounds.x1);
     const int y0 = std::max(r.y0, t.bounds.y0), y1 = std::min(r.y1, t.bounds.y1);
     if (x0 >= x1 || y0 >= y1) continue;
@@ -26,7 +27,7 @@ void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, in
       for (int x = x0; x < x1; ++x) {
         if (((e[0] - bias[0]) | (e[1] - bias[1]) | (e[2] - bias[2])) >= 0) {
           if (!begun) {
-            stage.beginTriangle(t);
+            stage.beginTriangle(t, bins.chunkOf(id).clipBarycentrics);
             begun = true;
           }
           stage.fragment(x, y, e);

@@ -96,6 +96,7 @@ void Framebuffer::validate() const {
 struct Renderer::Arena {
   std::optional<tbb::global_control> oversubscribe;
   tbb::task_arena arena;
+  detail::BinnedTriangles bins;  // reused between draws
   explicit Arena(int threads)
       : oversubscribe(threads > int(tbb::this_task_arena::max_concurrency())
                           ? std::optional<tbb::global_control>(std::in_place, tbb::global_control::max_allowed_parallelism,
@@ -126,9 +127,9 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   stats.trianglesSubmitted = geometry.triangleCount();
 
   auto t0 = std::chrono::steady_clock::now();
-  detail::BinnedTriangles bins;
+  detail::BinnedTriangles& bins = arena_->bins;
   arena_->arena.execute([&] {
-    bins = detail::setupAndBin(geometry, context, grid, [](size_t n, auto&& body) {
+    detail::setupAndBin(geometry, context, grid, bins, [](size_t n, auto&& body) {
       tbb::parallel_for(size_t(0), n, [&](size_t i) { body(i); });
     });
   });
@@ -141,7 +142,7 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   arena_->arena.execute([&] {
     tbb::parallel_for(0, grid.count(), [&](int tile) {
       if (bins.tileStart[size_t(tile)] == bins.tileStart[size_t(tile) + 1]) return;
-      detail::FragmentStage stage(fb, state, program, &geometry, &bins.clipBarycentrics);
+      detail::FragmentStage stage(fb, state, program, &geometry);
       detail::rasterizeTile(bins, tile, grid.tileRect(tile), state.raster.subpixelBits, stage);
       perTile[size_t(tile)] = stage.counters();
     });
@@ -160,7 +161,7 @@ DrawStats Renderer::drawFullscreen(Framebuffer& fb, const PipelineState& state, 
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->arena.execute([&] {
     tbb::parallel_for(0, grid.count(), [&](int tile) {
-      detail::FragmentStage stage(fb, state, program, nullptr, nullptr);
+      detail::FragmentStage stage(fb, state, program, nullptr);
       const detail::PixelRect r = grid.tileRect(tile);
       for (int y = r.y0; y < r.y1; ++y)
         for (int x = r.x0; x < r.x1; ++x) stage.fullscreenPixel(x, y);

@@ -72,6 +72,7 @@ void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVe
   for (int i = 0; i < 3; ++i)
     if (isInclusive(t.edgeB[i], -t.edgeA[i], c.raster.fill)) t.inclusiveEdges |= uint8_t(1u << i);
   t.area2 = area2;
+  t.invArea2 = 1.0 / double(area2);
 
   // Pixels whose centre x·S + S/2 lies in [minX, maxX], intersected with the viewport.
   const int64_t x0 = std::max<int64_t>(c.vx, -floorDiv(-(minX - S / 2), S));

@@ -33,6 +33,7 @@ struct PixelRect {
 struct SetupTriangle {
   int64_t edgeA[3], edgeB[3], edgeC[3];
   int64_t area2;       // E_i at vertex i, > 0
+  double invArea2;     // 1 / area2, so λ_i = E_i · invArea2
   double z[3];         // window z per vertex
   double invW[3];      // 1 / clip w per vertex
   PixelRect bounds;    // covered pixel range, clipped to the viewport

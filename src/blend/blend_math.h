@@ -1,0 +1,145 @@
+// The GL 4.6 §17.3.6 blend arithmetic on decoded fp32 values, used by every path that blends in
+// floating point (the generic path and the per-format fast paths of target_blender.cpp), so the
+// rule exists once. Rules: include/oitref/blend.h.
+//
+// A BlendState is compiled once per draw into per-lane selectors, so the per-fragment work has no
+// branches and runs four lanes at a time (GCC/Clang vector extensions; plain IEEE fp32 per lane,
+// so the bits are those of the scalar formulas):
+//  * every row of table 17.2 is one of eight candidate vectors v, or 1 − v;
+//  * SUBTRACT and REVERSE_SUBTRACT are ADD with one product negated (IEEE 754 defines x − y as
+//    x + (−y), and negation is exact);
+//  * MIN/MAX lanes take minNum/maxNum of the operands instead.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include <glm/vec4.hpp>
+
+#include "oitref/blend_state.h"
+#include "oitref/unorm.h"
+
+namespace oitref::detail {
+
+typedef float v4f __attribute__((vector_size(16)));
+typedef int32_t v4i __attribute__((vector_size(16)));
+
+inline v4f load4(const glm::vec4& v) {
+  v4f r;
+  std::memcpy(&r, &v[0], 16);
+  return r;
+}
+inline glm::vec4 store4(v4f v) {
+  glm::vec4 r;
+  std::memcpy(&r[0], &v, 16);
+  return r;
+}
+inline v4f splat(float x) { return v4f{x, x, x, x}; }
+inline v4f select(v4i mask, v4f a, v4f b) { return mask ? a : b; }
+
+// Clamp to [0,1] with NaN -> 0, as clampUnit: v > 0 ? (v < 1 ? v : 1) : 0.
+inline v4f clampUnit4(v4f v) { return select(v > 0.0f, select(v < 1.0f, v, splat(1.0f)), splat(0.0f)); }
+inline glm::vec4 clampUnit4(const glm::vec4& v) { return store4(clampUnit4(load4(v))); }
+
+// NaN signs and payloads from arithmetic differ between CPUs (x86's default NaN is negative,
+// ARM's positive) and GL does not specify them: a NaN blend result is the canonical quiet NaN.
+inline v4f canonicalNan(v4f v) { return select(v != v, splat(__builtin_nanf("")), v); }
+
+typedef double v4d __attribute__((vector_size(32)));
+
+// encodeUnorm (oitref/unorm.h) four channels at a time, same bits: after the clamp, a product p
+// in [0, 2^52) is rounded to an integer, ties to even, by (p + 2^52) − 2^52 in the default
+// rounding mode (for the fp32 product, p < 2^23 and 2^23 does the same in fp32).
+inline v4i encodeUnorm4(v4f v, int bits, UnormRounding rounding) {
+  const uint32_t maxCode = (uint32_t(1) << bits) - 1;
+  v = clampUnit4(v);
+  if (rounding == UnormRounding::Fp32Product) {
+    const v4f p = v * float(maxCode);
+    const v4f twoPow23 = splat(8388608.0f);
+    return __builtin_convertvector((p + twoPow23) - twoPow23, v4i);
+  }
+  const v4d p = __builtin_convertvector(v, v4d) * double(maxCode);
+  const v4d twoPow52 = v4d{4503599627370496.0, 4503599627370496.0, 4503599627370496.0, 4503599627370496.0};
+  return __builtin_convertvector((p + twoPow52) - twoPow52, v4i);
+}
+
+// IEEE minNum/maxNum; on equality the source (first operand).
+inline v4f minNum(v4f s, v4f d) { return select(s != s, d, select(d != d, s, select(d < s, d, s))); }
+inline v4f maxNum(v4f s, v4f d) { return select(s != s, d, select(d != d, s, select(d > s, d, s))); }
+
+struct CompiledBlend {
+  // Candidate rows: 0 zero, 1 s, 2 (d.rgb, Ad), 3 As, 4 Ad, 5 c, 6 c.a, 7 (f, f, f, 1) with
+  // f = min(As, 1 − Ad). Lane l of the source factor is row srcRow[l] (1 − it where srcOneMinus);
+  // srcLanes[k] has all bits set in the lanes that take row k.
+  int srcRow[4], dstRow[4];
+  v4i srcLanes[8], dstLanes[8];
+  unsigned rowsUsed;
+  v4i srcOneMinus, dstOneMinus;
+  v4i negateSrc, negateDst;  // sign-bit masks for SUBTRACT / REVERSE_SUBTRACT lanes
+  v4i minLanes, maxLanes;
+  bool anyMinMax;
+};
+
+inline CompiledBlend compileBlend(const BlendState& st) {
+  // Table 17.2: row and "one minus" for each factor.
+  static constexpr int kRow[15] = {0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7};
+  static constexpr bool kOneMinus[15] = {false, true, false, true, false, true, false, true,
+                                         false, true, false, true, false, true, false};
+  CompiledBlend c{};
+  for (int l = 0; l < 4; ++l) {
+    const BlendFactor sf = l < 3 ? st.srcRgb : st.srcAlpha, df = l < 3 ? st.dstRgb : st.dstAlpha;
+    const BlendEquation eq = l < 3 ? st.equationRgb : st.equationAlpha;
+    c.srcRow[l] = kRow[int(sf)];
+    c.dstRow[l] = kRow[int(df)];
+    c.srcOneMinus[l] = kOneMinus[int(sf)] ? -1 : 0;
+    c.dstOneMinus[l] = kOneMinus[int(df)] ? -1 : 0;
+    c.negateSrc[l] = eq == BlendEquation::ReverseSubtract ? int32_t(0x80000000u) : 0;
+    c.negateDst[l] = eq == BlendEquation::Subtract ? int32_t(0x80000000u) : 0;
+    c.minLanes[l] = eq == BlendEquation::Min ? -1 : 0;
+    c.maxLanes[l] = eq == BlendEquation::Max ? -1 : 0;
+    c.anyMinMax = c.anyMinMax || eq == BlendEquation::Min || eq == BlendEquation::Max;
+    c.srcLanes[c.srcRow[l]][l] = -1;
+    c.dstLanes[c.dstRow[l]][l] = -1;
+    c.rowsUsed |= (1u << c.srcRow[l]) | (1u << c.dstRow[l]);
+  }
+  c.rowsUsed &= ~1u;  // row 0 is zero: contributes nothing to the OR below
+  return c;
+}
+
+// `c` must already be clamped for fixed-point targets (done once per draw by the callers).
+inline v4f blendValues(const CompiledBlend& cb, v4f s, v4f d, v4f c, bool fixedPoint, bool targetHasAlpha) {
+  if (fixedPoint) {
+    s = clampUnit4(s);
+    d = clampUnit4(d);
+  }
+  const float ad = targetHasAlpha ? d[3] : 1.0f;
+  v4i sRowBits = v4i{0, 0, 0, 0}, dRowBits = v4i{0, 0, 0, 0};
+  auto take = [&](int k, v4f row) {
+    sRowBits |= (v4i)row & cb.srcLanes[k];
+    dRowBits |= (v4i)row & cb.dstLanes[k];
+  };
+  if (cb.rowsUsed & (1u << 1)) take(1, s);
+  if (cb.rowsUsed & (1u << 2)) take(2, v4f{d[0], d[1], d[2], ad});
+  if (cb.rowsUsed & (1u << 3)) take(3, splat(s[3]));
+  if (cb.rowsUsed & (1u << 4)) take(4, splat(ad));
+  if (cb.rowsUsed & (1u << 5)) take(5, c);
+  if (cb.rowsUsed & (1u << 6)) take(6, splat(c[3]));
+  if (cb.rowsUsed & (1u << 7)) {
+    const float oneMinusAd = 1.0f - ad;
+    const float f = s[3] < oneMinusAd ? s[3] : oneMinusAd;
+    take(7, v4f{f, f, f, 1.0f});
+  }
+  const v4f sRow = (v4f)sRowBits, dRow = (v4f)dRowBits;
+  const v4f one = splat(1.0f);
+  const v4f sf = select(cb.srcOneMinus, one - sRow, sRow);
+  const v4f df = select(cb.dstOneMinus, one - dRow, dRow);
+  const v4f a = (v4f)((v4i)(s * sf) ^ cb.negateSrc);
+  const v4f b = (v4f)((v4i)(d * df) ^ cb.negateDst);
+  v4f r = a + b;
+  if (cb.anyMinMax) r = select(cb.minLanes, minNum(s, d), select(cb.maxLanes, maxNum(s, d), r));
+  r = canonicalNan(r);
+  return fixedPoint ? clampUnit4(r) : r;
+}
+
+}  // namespace oitref::detail

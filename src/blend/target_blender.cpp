@@ -1,0 +1,117 @@
+#include "blend/target_blender.h"
+
+#include <array>
+#include <cstring>
+
+#include "blend/blend_math.h"
+#include "blend/blend_unorm8_integer.h"
+#include "format/fp16_inline.h"
+
+namespace oitref::detail {
+namespace {
+
+// k/255 correctly rounded, for every k: the exact UNORM8 decode (GL 4.6 §2.3.5.1).
+const std::array<float, 256> kUnorm8Decode = [] {
+  std::array<float, 256> t{};
+  for (int k = 0; k < 256; ++k) t[size_t(k)] = float(k) / 255.0f;
+  return t;
+}();
+
+}  // namespace
+
+TargetBlender::TargetBlender(const Format& format, const BlendState& state, const glm::vec4& constant,
+                             const Profile& profile, bool allowFastPath)
+    : format_(format), state_(state), compiled_(compileBlend(state)), constant_(format.isUnorm() ? clampUnit4(constant) : constant),
+      rawConstant_(constant), profile_(profile) {
+  const unsigned all = (1u << format.channels) - 1;
+  mask_ = state.writeMask & all;
+  const bool integer8 = profile.unorm8Blend == Unorm8Blend::Integer && format.isUnorm() && !format.isPacked();
+  if (mask_ == 0) kernel_ = maskedOffKernel;
+  else if (state.enabled && integer8) kernel_ = integerUnorm8Kernel;
+  else if (!allowFastPath || mask_ != all) kernel_ = genericKernel;
+  else {
+    const int c = format.channels;
+    switch (format.encoding()) {
+      case ChannelEncoding::Unorm:
+        kernel_ = format.isPacked() ? genericKernel : c == 4 ? unorm8Kernel<4> : c == 2 ? unorm8Kernel<2> : unorm8Kernel<1>;
+        break;
+      case ChannelEncoding::Half:
+        kernel_ = c == 4 ? halfKernel<4> : c == 2 ? halfKernel<2> : halfKernel<1>;
+        break;
+      case ChannelEncoding::Float32:
+        kernel_ = c == 4 ? float32Kernel<4> : c == 2 ? float32Kernel<2> : float32Kernel<1>;
+        break;
+      default: kernel_ = genericKernel;
+    }
+  }
+}
+
+void TargetBlender::genericKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  const Format& f = b.format_;
+  const glm::vec4 result = b.state_.enabled
+                               ? store4(blendValues(b.compiled_, load4(source), load4(decodeTexel(f, texel)), load4(b.constant_),
+                                                    f.isUnorm(), f.hasAlpha()))
+                               : source;
+  if (b.mask_ == (1u << f.channels) - 1) {
+    encodeTexel(f, result, b.profile_, texel);
+    return;
+  }
+  uint8_t encoded[16];
+  encodeTexel(f, result, b.profile_, encoded);
+  mergeTexelChannels(f, encoded, texel, b.mask_);
+}
+
+void TargetBlender::integerUnorm8Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  blendUnorm8Integer(b.format_.channels, b.state_, b.rawConstant_, b.profile_.unorm, source, b.mask_, texel);
+}
+
+template <int Channels>
+void TargetBlender::unorm8Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  glm::vec4 result = source;
+  if (b.state_.enabled) {
+    glm::vec4 d(0.0f, 0.0f, 0.0f, 1.0f);
+    for (int c = 0; c < Channels; ++c) d[c] = kUnorm8Decode[texel[c]];
+    result = store4(blendValues(b.compiled_, load4(source), load4(d), load4(b.constant_), true, Channels == 4));
+  }
+  const v4i codes = encodeUnorm4(load4(result), 8, b.profile_.unorm);
+  for (int c = 0; c < Channels; ++c) texel[c] = uint8_t(codes[c]);
+}
+
+template <int Channels>
+void TargetBlender::halfKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  uint16_t h[4] = {0, 0, 0, 0x3c00};
+  glm::vec4 result = source;
+  if (b.state_.enabled) {
+    std::memcpy(h, texel, 2 * Channels);
+    glm::vec4 d;
+#if defined(OITREF_HAVE_F16C)
+    _mm_storeu_ps(&d[0], _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(h))));
+#else
+    for (int c = 0; c < 4; ++c) d[c] = decodeHalfInline(h[c]);
+#endif
+    result = store4(blendValues(b.compiled_, load4(source), load4(d), load4(b.constant_), false, Channels == 4));
+  }
+#if defined(OITREF_HAVE_F16C)
+  const __m128 v = _mm_loadu_ps(&result[0]);
+  const __m128i packed = b.profile_.fp16 == Rounding::TowardZero
+                             ? _mm_cvtps_ph(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
+                             : _mm_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(h), packed);
+#else
+  for (int c = 0; c < Channels; ++c) h[c] = encodeHalfInline(result[c], b.profile_.fp16);
+#endif
+  std::memcpy(texel, h, 2 * Channels);
+}
+
+template <int Channels>
+void TargetBlender::float32Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  glm::vec4 result = source;
+  if (b.state_.enabled) {
+    glm::vec4 d(0.0f, 0.0f, 0.0f, 1.0f);
+    std::memcpy(&d[0], texel, 4 * Channels);
+    result = store4(blendValues(b.compiled_, load4(source), load4(d), load4(b.constant_), false, Channels == 4));
+  }
+  std::memcpy(texel, &result[0], 4 * Channels);
+}
+
+}  // namespace oitref::detail

@@ -1,0 +1,44 @@
+// One colour attachment's blend and write, resolved once per draw: the blend state, the clamped
+// constant, and a kernel chosen for the format. Kernels for rgba8/rg8/r8, fp16 and fp32 targets
+// decode and encode without per-channel dispatch (fp16 four channels at a time with F16C); every
+// other case takes the generic path. All run blendValues (blend_math.h), so they differ only in
+// speed: the test "blend: fast paths give the generic path's bits" checks it.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+#include "blend/blend_math.h"
+#include "oitref/blend_state.h"
+#include "oitref/format.h"
+#include "oitref/profile.h"
+
+namespace oitref::detail {
+
+class TargetBlender {
+ public:
+  TargetBlender(const Format& format, const BlendState& state, const glm::vec4& constant, const Profile& profile,
+                bool allowFastPath = true);
+  void blend(const glm::vec4& source, uint8_t* texel) const { kernel_(*this, source, texel); }
+
+ private:
+  using Kernel = void (*)(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <int Channels> static void unorm8Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <int Channels> static void halfKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <int Channels> static void float32Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  static void genericKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  static void integerUnorm8Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  static void maskedOffKernel(const TargetBlender&, const glm::vec4&, uint8_t*) {}
+
+  Format format_;
+  BlendState state_;
+  CompiledBlend compiled_;
+  glm::vec4 constant_;  // clamped to [0,1] for fixed-point targets
+  glm::vec4 rawConstant_;
+  Profile profile_;
+  unsigned mask_;
+  Kernel kernel_;
+};
+
+}  // namespace oitref::detail
