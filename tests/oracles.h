@@ -24,6 +24,7 @@ inline uint32_t oracleUnorm(float f, int b) {
   const uint32_t exp = u >> 23;
   const unsigned __int128 m = exp ? ((u & 0x7fffff) | 0x800000) : (u & 0x7fffff);
   const int shift = exp ? 150 - int(exp) : 149;  // f = m / 2^shift, shift > 0 here
+  if (shift > 64) return 0;  // num < 2^33 is below half a unit (and a shift ≥ 128 is undefined)
   const unsigned __int128 num = m * ((unsigned __int128)((1u << b) - 1));
   const unsigned __int128 q = num >> shift;
   const unsigned __int128 rem = num - (q << shift);

@@ -1,7 +1,9 @@
 // fp16: our portable converter against the F16C instruction (an independent implementation in
 // silicon), plus hand-derived boundary cases. The Imath oracle is in test_fp16_imath.cpp.
 #include <catch2/catch.hpp>
+#if defined(__x86_64__)
 #include <immintrin.h>
+#endif
 
 #include <atomic>
 
@@ -15,6 +17,7 @@ using oitref::test::fromBits;
 
 namespace {
 
+#if defined(__x86_64__)
 bool cpuHasF16C() { return __builtin_cpu_supports("f16c"); }
 
 __attribute__((target("f16c"))) uint16_t f16cEncode(float f, Rounding r) {
@@ -22,6 +25,11 @@ __attribute__((target("f16c"))) uint16_t f16cEncode(float f, Rounding r) {
                                    : _cvtss_sh(f, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
 }
 __attribute__((target("f16c"))) float f16cDecode(uint16_t h) { return _cvtsh_ss(h); }
+#else
+bool cpuHasF16C() { return false; }
+uint16_t f16cEncode(float, Rounding) { return 0; }
+float f16cDecode(uint16_t) { return 0; }
+#endif
 
 }  // namespace
 

@@ -1,40 +1,40 @@
-// GL 4.6 table 17.2, the blend factors, written once for every arithmetic that blends:
-// fp32 (T = float, one = 1) and llvmpipe's 8-bit integers (T = uint32_t, one = 255).
-// Each factor is the table's row (f_R, f_G, f_B, f_A); RGB takes the first three components of
-// its factor's row and alpha the fourth of its own. `ad` is the destination alpha as read (1 for
-// targets without alpha, §17.3.6.6).
+// GL 4.6 table 17.2, the blend factors, as data used by every blending arithmetic (fp32 in
+// blend_math.h, llvmpipe's 8-bit integers in blend_unorm8_integer.cpp).
+//
+// Every row (f_R, f_G, f_B, f_A) of the table is one of eight candidate vectors v, or 1 − v:
+//   0 zero   1 (Rs, Gs, Bs, As)   2 (Rd, Gd, Bd, Ad)   3 (As, As, As, As)   4 (Ad, Ad, Ad, Ad)
+//   5 (Rc, Gc, Bc, Ac)   6 (Ac, Ac, Ac, Ac)   7 (f, f, f, 1) with f = min(As, 1 − Ad)
+// RGB takes the first three components of its factor's row, alpha the fourth of its own.
 #pragma once
-
-#include <array>
 
 #include "oitref/blend_state.h"
 
 namespace oitref::detail {
 
-template <typename T, typename Vec>
-inline std::array<T, 4> blendFactorRow(BlendFactor f, const Vec& s, const Vec& d, T ad, const Vec& c, T one) {
+struct FactorRow {
+  int row;
+  bool oneMinus;
+};
+
+constexpr FactorRow factorRow(BlendFactor f) {
   switch (f) {
-    case BlendFactor::Zero: return {T(0), T(0), T(0), T(0)};
-    case BlendFactor::One: return {one, one, one, one};
-    case BlendFactor::SrcColor: return {T(s[0]), T(s[1]), T(s[2]), T(s[3])};
-    case BlendFactor::OneMinusSrcColor: return {T(one - s[0]), T(one - s[1]), T(one - s[2]), T(one - s[3])};
-    case BlendFactor::DstColor: return {T(d[0]), T(d[1]), T(d[2]), ad};
-    case BlendFactor::OneMinusDstColor: return {T(one - d[0]), T(one - d[1]), T(one - d[2]), T(one - ad)};
-    case BlendFactor::SrcAlpha: return {T(s[3]), T(s[3]), T(s[3]), T(s[3])};
-    case BlendFactor::OneMinusSrcAlpha: { const T v = one - s[3]; return {v, v, v, v}; }
-    case BlendFactor::DstAlpha: return {ad, ad, ad, ad};
-    case BlendFactor::OneMinusDstAlpha: { const T v = one - ad; return {v, v, v, v}; }
-    case BlendFactor::ConstantColor: return {T(c[0]), T(c[1]), T(c[2]), T(c[3])};
-    case BlendFactor::OneMinusConstantColor: return {T(one - c[0]), T(one - c[1]), T(one - c[2]), T(one - c[3])};
-    case BlendFactor::ConstantAlpha: return {T(c[3]), T(c[3]), T(c[3]), T(c[3])};
-    case BlendFactor::OneMinusConstantAlpha: { const T v = one - c[3]; return {v, v, v, v}; }
-    case BlendFactor::SrcAlphaSaturate: {  // (f, f, f, 1) with f = min(As, 1 − Ad)
-      const T oneMinusAd = one - ad;
-      const T f3 = T(s[3]) < oneMinusAd ? T(s[3]) : oneMinusAd;
-      return {f3, f3, f3, one};
-    }
+    case BlendFactor::Zero: return {0, false};
+    case BlendFactor::One: return {0, true};
+    case BlendFactor::SrcColor: return {1, false};
+    case BlendFactor::OneMinusSrcColor: return {1, true};
+    case BlendFactor::DstColor: return {2, false};
+    case BlendFactor::OneMinusDstColor: return {2, true};
+    case BlendFactor::SrcAlpha: return {3, false};
+    case BlendFactor::OneMinusSrcAlpha: return {3, true};
+    case BlendFactor::DstAlpha: return {4, false};
+    case BlendFactor::OneMinusDstAlpha: return {4, true};
+    case BlendFactor::ConstantColor: return {5, false};
+    case BlendFactor::OneMinusConstantColor: return {5, true};
+    case BlendFactor::ConstantAlpha: return {6, false};
+    case BlendFactor::OneMinusConstantAlpha: return {6, true};
+    case BlendFactor::SrcAlphaSaturate: return {7, false};
   }
-  return {T(0), T(0), T(0), T(0)};
+  return {0, false};
 }
 
 }  // namespace oitref::detail

@@ -17,6 +17,7 @@
 
 #include <glm/vec4.hpp>
 
+#include "blend/blend_factor.h"
 #include "oitref/blend_state.h"
 #include "oitref/unorm.h"
 
@@ -69,9 +70,8 @@ inline v4f minNum(v4f s, v4f d) { return select(s != s, d, select(d != d, s, sel
 inline v4f maxNum(v4f s, v4f d) { return select(s != s, d, select(d != d, s, select(d > s, d, s))); }
 
 struct CompiledBlend {
-  // Candidate rows: 0 zero, 1 s, 2 (d.rgb, Ad), 3 As, 4 Ad, 5 c, 6 c.a, 7 (f, f, f, 1) with
-  // f = min(As, 1 − Ad). Lane l of the source factor is row srcRow[l] (1 − it where srcOneMinus);
-  // srcLanes[k] has all bits set in the lanes that take row k.
+  // Lane l of the source factor is candidate row srcRow[l] of blend_factor.h (1 − it where
+  // srcOneMinus); srcLanes[k] has all bits set in the lanes that take row k.
   int srcRow[4], dstRow[4];
   v4i srcLanes[8], dstLanes[8];
   unsigned rowsUsed;
@@ -82,18 +82,14 @@ struct CompiledBlend {
 };
 
 inline CompiledBlend compileBlend(const BlendState& st) {
-  // Table 17.2: row and "one minus" for each factor.
-  static constexpr int kRow[15] = {0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7};
-  static constexpr bool kOneMinus[15] = {false, true, false, true, false, true, false, true,
-                                         false, true, false, true, false, true, false};
   CompiledBlend c{};
   for (int l = 0; l < 4; ++l) {
     const BlendFactor sf = l < 3 ? st.srcRgb : st.srcAlpha, df = l < 3 ? st.dstRgb : st.dstAlpha;
     const BlendEquation eq = l < 3 ? st.equationRgb : st.equationAlpha;
-    c.srcRow[l] = kRow[int(sf)];
-    c.dstRow[l] = kRow[int(df)];
-    c.srcOneMinus[l] = kOneMinus[int(sf)] ? -1 : 0;
-    c.dstOneMinus[l] = kOneMinus[int(df)] ? -1 : 0;
+    c.srcRow[l] = factorRow(sf).row;
+    c.dstRow[l] = factorRow(df).row;
+    c.srcOneMinus[l] = factorRow(sf).oneMinus ? -1 : 0;
+    c.dstOneMinus[l] = factorRow(df).oneMinus ? -1 : 0;
     c.negateSrc[l] = eq == BlendEquation::ReverseSubtract ? int32_t(0x80000000u) : 0;
     c.negateDst[l] = eq == BlendEquation::Subtract ? int32_t(0x80000000u) : 0;
     c.minLanes[l] = eq == BlendEquation::Min ? -1 : 0;

@@ -5,6 +5,23 @@
 namespace oitref::detail {
 namespace {
 
+// Channel ch of a factor: candidate row of blend_factor.h in 8-bit integers, 1 − v as 255 − v.
+uint32_t factor8(BlendFactor f, int ch, const uint32_t s[4], const uint32_t d[4], uint32_t ad, const uint32_t c[4]) {
+  const FactorRow fr = factorRow(f);
+  uint32_t v = 0;
+  switch (fr.row) {
+    case 0: v = 0; break;
+    case 1: v = s[ch]; break;
+    case 2: v = ch == 3 ? ad : d[ch]; break;
+    case 3: v = s[3]; break;
+    case 4: v = ad; break;
+    case 5: v = c[ch]; break;
+    case 6: v = c[3]; break;
+    case 7: v = ch == 3 ? 255 : (s[3] < 255 - ad ? s[3] : 255 - ad); break;
+  }
+  return fr.oneMinus ? 255 - v : v;
+}
+
 uint32_t equation8(BlendEquation eq, uint32_t s, uint32_t d, uint32_t sf, uint32_t df) {
   const int a = int(mulUnorm8(s, sf)), b = int(mulUnorm8(d, df));
   int r = 0;
@@ -32,8 +49,8 @@ void blendUnorm8Integer(int channels, const BlendState& state, const glm::vec4& 
   for (int ch = 0; ch < channels; ++ch) {
     if (!(writeMask & (1u << ch))) continue;
     const bool alpha = ch == 3;
-    const uint32_t sf = blendFactorRow(alpha ? state.srcAlpha : state.srcRgb, s, d, ad, c, 255u)[size_t(ch)];
-    const uint32_t df = blendFactorRow(alpha ? state.dstAlpha : state.dstRgb, s, d, ad, c, 255u)[size_t(ch)];
+    const uint32_t sf = factor8(alpha ? state.srcAlpha : state.srcRgb, ch, s, d, ad, c);
+    const uint32_t df = factor8(alpha ? state.dstAlpha : state.dstRgb, ch, s, d, ad, c);
     texel[ch] = uint8_t(equation8(alpha ? state.equationAlpha : state.equationRgb, s[ch], d[ch], sf, df));
   }
 }
