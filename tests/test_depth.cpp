@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "oitref/depth.h"
+#include "oitref/pipeline_state.h"
 #include "support.h"
 
 using namespace oitref;
@@ -64,4 +65,25 @@ TEST_CASE("depth: buffers clear and store in their own width", "[depth]") {
   d24.store(1, 2, 123);
   CHECK(d24.load(1, 2) == 123);
   CHECK(d24.sizeBytes() == 64);
+}
+
+TEST_CASE("pipeline state: defaults are GL's initial state and print every field", "[depth]") {
+  const PipelineState st;
+  CHECK_FALSE(st.depth.testEnabled);             // glDisable(GL_DEPTH_TEST)
+  CHECK(st.depth.func == CompareFunc::Less);     // GL_LESS
+  CHECK(st.depth.writeMask);                     // glDepthMask(GL_TRUE)
+  for (const BlendState& b : st.blend) {
+    CHECK_FALSE(b.enabled);
+    CHECK(b.equationRgb == BlendEquation::Add);  // GL_FUNC_ADD
+    CHECK(b.srcRgb == BlendFactor::One);         // GL_ONE
+    CHECK(b.dstRgb == BlendFactor::Zero);        // GL_ZERO
+    CHECK(b.writeMask == 0xf);                   // glColorMask(TRUE, TRUE, TRUE, TRUE)
+  }
+  CHECK(st.blendConstant == glm::vec4(0.0f));    // glBlendColor(0, 0, 0, 0)
+  CHECK(st.raster.frontFace == FrontFace::CounterClockwise);
+  CHECK(st.profile == exactProfile());
+  PipelineState other = st;
+  other.blend[3].writeMask = 0x7;
+  CHECK_FALSE(other == st);
+  CHECK_THAT(other.describe(), Catch::Contains("blend[3]: blend off mask=rgb-") && Catch::Contains("depth: test=off func=less"));
 }

@@ -33,7 +33,7 @@
 
 namespace oitref {
 
-// Blends `source` into the texel's bytes in place.
+// Blends `source` into the texel's bytes in place (under the default floating-point environment).
 void blendIntoTexel(const Format& format, const BlendState& state, const glm::vec4& constant,
                     const Profile& profile, const glm::vec4& source, uint8_t* texel);
 

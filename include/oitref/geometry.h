@@ -10,6 +10,8 @@
 
 #include <glm/vec4.hpp>
 
+#include "oitref/fp_environment.h"
+
 namespace oitref {
 
 struct Geometry {
@@ -29,9 +31,11 @@ struct Geometry {
   // Throws std::invalid_argument when sizes disagree or an index is out of range.
   void validate() const;
 
-  // Runs a vertex shader `clip = vs(vertexIndex, float* attributesOut)` over vertexCount vertices.
+  // Runs a vertex shader `clip = vs(vertexIndex, float* attributesOut)` over vertexCount vertices,
+  // under the default floating-point environment.
   template <typename VertexShader>
   static Geometry fromVertexShader(size_t vertexCount, int attributeCount, VertexShader&& vs) {
+    const DefaultFloatingPoint fp;
     Geometry g;
     g.attributeCount = attributeCount;
     g.clipPositions.resize(vertexCount);

@@ -5,7 +5,9 @@
 // (raster.cpp), and per-fragment operations — interpolation, depth test, shading, blending
 // (fragment_ops.cpp). Tiles are rasterized in parallel with oneTBB; each tile is owned by one
 // worker and walks its triangles in submission order, so every pixel sees its fragments in
-// primitive order and the result is bit-identical for any thread count.
+// primitive order and the result is bit-identical for any thread count. Draws run under the
+// default floating-point environment (round to nearest, no flush-to-zero) whatever the calling
+// thread has set.
 //
 // Not implemented (not needed by any OIT method here): stencil, scissor, multisampling, polygon
 // offset, lines and points, geometry/tessellation stages, sRGB targets, dithering.

@@ -22,15 +22,24 @@ enum class UnormRounding : uint8_t { ExactNearestEven, Fp32Product };
 // Clamp to [0,1] with NaN -> 0: the clamp GL applies to fixed-point blending inputs and outputs.
 inline float clampUnit(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; }
 
+// Round a non-negative double below 2^32 to the nearest integer, ties to even, whatever the
+// floating-point environment's rounding mode (truncation and the exact difference do not depend
+// on it).
+inline uint32_t roundHalfEven(double p) {
+  const uint32_t q = uint32_t(p);
+  const double frac = p - double(q);  // exact
+  return q + ((frac > 0.5 || (frac == 0.5 && (q & 1))) ? 1u : 0u);
+}
+
 inline uint32_t encodeUnorm(float value, int bits, UnormRounding rounding = UnormRounding::ExactNearestEven) {
   const uint32_t maxCode = (uint32_t(1) << bits) - 1;
   const float v = clampUnit(value);
   if (rounding == UnormRounding::Fp32Product) {
     const float product = v * float(maxCode);  // rounded to fp32 first
-    return uint32_t(std::nearbyint(product));  // default FP environment: ties to even
+    return roundHalfEven(double(product));
   }
   // f has 24 significant bits, 2^b−1 at most b: the double product is exact for b ≤ 29.
-  return uint32_t(std::nearbyint(double(v) * double(maxCode)));
+  return roundHalfEven(double(v) * double(maxCode));
 }
 
 inline float decodeUnorm(uint32_t code, int bits) {

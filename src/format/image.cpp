@@ -1,5 +1,7 @@
 #include "oitref/image.h"
 
+#include "oitref/fp_environment.h"
+
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -19,10 +21,12 @@ Image::Image(Format format, int width, int height) : format_(format), width_(wid
 }
 
 void Image::store(int x, int y, const glm::vec4& value, const Profile& profile) {
+  const DefaultFloatingPoint fp;
   encodeTexel(format_, value, profile, texel(x, y));
 }
 
 void Image::clear(const glm::vec4& value, const Profile& profile) {
+  const DefaultFloatingPoint fp;
   uint8_t pattern[16] = {};
   encodeTexel(format_, value, profile, pattern);
   for (size_t i = 0; i < bytes_.size(); i += texelBytes_) std::memcpy(bytes_.data() + i, pattern, texelBytes_);

@@ -11,6 +11,7 @@
 #include <cctype>
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
 
 namespace oitref {
 namespace {
@@ -169,20 +170,18 @@ MinifloatSpec parseMinifloatSpec(const std::string& text) {
   if (pos >= text.size() || text[pos] != 'm') fail("missing 'm'");
   ++pos;
   s.mantissaBits = readInt();
-  std::string rest = text.substr(pos);
-  auto eat = [&](const std::string& token) {
-    if (rest.rfind(token, 0) == 0) {
-      rest = rest.substr(token.size());
-      return true;
-    }
-    return false;
+  std::string_view rest = std::string_view(text).substr(pos);
+  auto eat = [&](std::string_view token) {
+    if (rest.substr(0, token.size()) != token) return false;
+    rest.remove_prefix(token.size());
+    return true;
   };
   if (eat("u")) s.isSigned = false;
   if (eat("fn")) s.specials = FloatSpecials::FiniteNan;
   else if (eat("nonan")) s.specials = FloatSpecials::None;
   if (eat("_ftz")) s.denormals = false;
   if (eat("_sat")) s.finiteOverflowSaturates = true;
-  if (!rest.empty()) fail("unexpected '" + rest + "'");
+  if (!rest.empty()) fail("unexpected '" + std::string(rest) + "'");
   try {
     s.validate();
   } catch (const std::invalid_argument& e) {

@@ -1,4 +1,5 @@
 #include "oitref/depth.h"
+#include "oitref/unorm.h"
 
 #include <bit>
 #include <algorithm>
@@ -44,7 +45,7 @@ CompareFunc parseCompareFunc(const std::string& name) {
 uint32_t encodeDepth(double windowZ, DepthFormat format) {
   const double z = clampDepthRange(windowZ);
   if (format == DepthFormat::D32F) return std::bit_cast<uint32_t>(float(z));
-  return uint32_t(std::nearbyint(z * double(fixedMax(format))));  // exact product, ties to even
+  return roundHalfEven(z * double(fixedMax(format)));  // exact product, ties to even
 }
 
 double decodeDepth(uint32_t stored, DepthFormat format) {

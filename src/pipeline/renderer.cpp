@@ -12,12 +12,23 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "oitref/fp_environment.h"
 #include "pipeline/binning.h"
 #include "pipeline/fragment_ops.h"
 #include "pipeline/raster.h"
 
 namespace oitref {
 namespace {
+
+// Every task of a draw runs under the default floating-point environment (fp_environment.h):
+// oneTBB copies the arena creator's settings to its workers, whatever they are.
+template <typename Body>
+void parallelFor(size_t n, Body&& body) {
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    const DefaultFloatingPoint fp;
+    body(i);
+  });
+}
 
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -129,9 +140,7 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   auto t0 = std::chrono::steady_clock::now();
   detail::BinnedTriangles& bins = arena_->bins;
   arena_->arena.execute([&] {
-    detail::setupAndBin(geometry, context, grid, bins, [](size_t n, auto&& body) {
-      tbb::parallel_for(size_t(0), n, [&](size_t i) { body(i); });
-    });
+    detail::setupAndBin(geometry, context, grid, bins, [](size_t n, auto&& body) { parallelFor(n, body); });
   });
   stats.trianglesRasterized = bins.counters.rasterized;
   stats.trianglesNonFinite = bins.counters.nonFinite;
@@ -140,11 +149,11 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->arena.execute([&] {
-    tbb::parallel_for(0, grid.count(), [&](int tile) {
-      if (bins.tileStart[size_t(tile)] == bins.tileStart[size_t(tile) + 1]) return;
+    parallelFor(size_t(grid.count()), [&](size_t tile) {
+      if (bins.tileStart[tile] == bins.tileStart[tile + 1]) return;
       detail::FragmentStage stage(fb, state, program, &geometry);
-      detail::rasterizeTile(bins, tile, grid.tileRect(tile), state.raster.subpixelBits, stage);
-      perTile[size_t(tile)] = stage.counters();
+      detail::rasterizeTile(bins, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, stage);
+      perTile[tile] = stage.counters();
     });
   });
   for (const auto& c : perTile) addCounters(stats, c);
@@ -160,12 +169,12 @@ DrawStats Renderer::drawFullscreen(Framebuffer& fb, const PipelineState& state, 
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->arena.execute([&] {
-    tbb::parallel_for(0, grid.count(), [&](int tile) {
+    parallelFor(size_t(grid.count()), [&](size_t tile) {
       detail::FragmentStage stage(fb, state, program, nullptr);
-      const detail::PixelRect r = grid.tileRect(tile);
+      const detail::PixelRect r = grid.tileRect(int(tile));
       for (int y = r.y0; y < r.y1; ++y)
         for (int x = r.x0; x < r.x1; ++x) stage.fullscreenPixel(x, y);
-      perTile[size_t(tile)] = stage.counters();
+      perTile[tile] = stage.counters();
     });
   });
   for (const auto& c : perTile) addCounters(stats, c);

@@ -40,8 +40,9 @@ BlendCase parseBlendCsvLine(const std::string& line) {
     throw BlendCsvError(int(std::min<size_t>(f.size(), 19)) + (f.size() < 19 ? 1 : 0),
                         "expected 19 fields, found " + std::to_string(f.size()));
   for (auto& s : f) {  // trim
-    const size_t b = s.find_first_not_of(" \t\r"), e = s.find_last_not_of(" \t\r");
-    s = b == std::string::npos ? "" : s.substr(b, e - b + 1);
+    const size_t e = s.find_last_not_of(" \t\r");
+    s.erase(e == std::string::npos ? 0 : e + 1);
+    s.erase(0, s.find_first_not_of(" \t\r") == std::string::npos ? s.size() : s.find_first_not_of(" \t\r"));
   }
   BlendCase c;
   auto guard = [&](int col, auto&& parse) {

@@ -6,6 +6,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "oitref/fp_environment.h"
+
 namespace oitref::tools {
 namespace {
 
@@ -84,6 +86,7 @@ FragmentProgram accumulateProgram() {
 }  // namespace
 
 DemoResult renderDemo(Renderer& renderer, const DemoOptions& o) {
+  const DefaultFloatingPoint fp;  // the camera and scene set-up too, not just the pipeline
   const glm::mat4 proj = glm::perspective(glm::radians(60.0f), float(o.width) / float(o.height), 0.1f, 100.0f);
   const glm::mat4 view = glm::lookAt(glm::vec3(0, 1.6f, 5), glm::vec3(0, 1, 0), glm::vec3(0, 1, 0));
   const glm::mat4 vp = proj * view;

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "oitref/fp16.h"
+#include "oitref/fp_environment.h"
 #include "tools/commands.h"
 
 int main(int argc, char** argv) {
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 #endif
+  const oitref::DefaultFloatingPoint fp;  // every rule assumes IEEE defaults
   CLI::App app{"oitref: a bit-exact CPU reference of the GPU pipeline for order-independent transparency"};
   app.require_subcommand(1);
   int exitCode = 0;
