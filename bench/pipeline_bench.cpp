@@ -149,7 +149,8 @@ int main(int argc, char** argv) {
       const FragmentProgram accumulate{[](const FragmentInput& in, FragmentOutput& o) {
         const glm::vec4 c = in.vec4At(0);
         const float z = in.viewDepth * 50.0f;
-        const float w = c.a * std::clamp(10.0f / (1e-5f + (z / 5) * (z / 5) + std::pow(z / 200, 6.0f)), 1e-2f, 3e3f);
+        const float a = z / 5, b = z / 200, b3 = b * b * b;
+        const float w = c.a * std::clamp(10.0f / (1e-5f + a * a + b3 * b3), 1e-2f, 3e3f);
         o.write(0, glm::vec4(glm::vec3(c) * c.a, c.a) * w);
         o.write(1, glm::vec4(c.a));
       }};

@@ -2,6 +2,7 @@
 
 #include "oitref/fp_environment.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -27,9 +28,10 @@ void Image::store(int x, int y, const glm::vec4& value, const Profile& profile) 
 
 void Image::clear(const glm::vec4& value, const Profile& profile) {
   const DefaultFloatingPoint fp;
-  uint8_t pattern[16] = {};
-  encodeTexel(format_, value, profile, pattern);
-  for (size_t i = 0; i < bytes_.size(); i += texelBytes_) std::memcpy(bytes_.data() + i, pattern, texelBytes_);
+  encodeTexel(format_, value, profile, bytes_.data());
+  // Fill by doubling: copy the filled prefix onto the rest, in ever larger blocks.
+  for (size_t filled = texelBytes_; filled < bytes_.size(); filled *= 2)
+    std::memcpy(bytes_.data() + filled, bytes_.data(), std::min(filled, bytes_.size() - filled));
 }
 
 bool Image::sameBits(const Image& other) const {
