@@ -55,6 +55,10 @@ void writeImage(const std::string& path, const Image& image) {
   if (!out) throw std::runtime_error(path + ": no image writer for '" + ext + "': " + OIIO::geterror());
   OIIO::ImageSpec spec(w, h, channels, type);
   if (channels == 4) spec.alpha_channel = 3;
+  // OIIO stamps the current time into EXR headers unless told otherwise; a reference image must
+  // be the same file every time it is written.
+  spec.attribute("DateTime", "");
+  spec.attribute("Software", "oitref");
   if (!out->open(temp.string(), spec) ||
       !out->write_image(type, topRow, pixelStride, -rowStride) || !out->close()) {
     const std::string err = out->geterror();
