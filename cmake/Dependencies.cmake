@@ -13,6 +13,8 @@ oitref_require(glm libglm-dev)
 oitref_require(TBB libtbb-dev)
 oitref_require(CLI11 libcli11-dev)
 oitref_require(embree libembree-dev 3)
+oitref_require(assimp libassimp-dev)
+oitref_require(nlohmann_json nlohmann-json3-dev)
 
 # OpenImageIO. Debian 12's OpenImageIOTargets.cmake lists /usr/include/opencv4 among the
 # interface include directories although libopenimageio-dev does not depend on OpenCV; CMake

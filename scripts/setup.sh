@@ -7,7 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake ninja-build libglm-dev libembree-dev libtbb-dev
-          libopenimageio-dev openimageio-tools libimath-dev catch2 libcli11-dev)
+          libopenimageio-dev openimageio-tools libimath-dev catch2 libcli11-dev
+          libassimp-dev nlohmann-json3-dev)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,96 @@
+// Scenes: the JSON scene files of Rožek's OIT thesis (appendix B.2), extended with a camera and
+// a resolution.
+//
+//   { "back": [r,g,b],                          background colour, linear
+//     "resolution": [w,h],
+//     "camera": {"position":[x,y,z], "target":[x,y,z], "up":[0,1,0], "fov_y":60, "near":0.1, "far":100},
+//     "objects": [
+//       {"type":"mesh", "file_path":"meshes/bunny.ply", "color_override":[r,g,b,a],
+//        "position":[x,y,z], "rotation":[x,y,z], "scale":s, "transparent":true},
+//       {"type":"particle", "count":32, "seed":1, "color_override":[r,g,b,a],
+//        "position":[x,y,z], "scale":s, "size":t} ] }
+//
+// Conventions: paths relative to the scene file; rotation in degrees; model matrix
+// T·Rz·Ry·Rx·S; camera glm::lookAt + glm::perspective (right-handed, clip z in [−w, w]); colours
+// straight (not premultiplied) and linear. An object is transparent when its alpha is below 1
+// anywhere, unless "transparent" says otherwise.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+namespace oitref {
+
+struct Camera {
+  glm::vec3 position{0.0f, 0.0f, 5.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fovYDegrees = 60.0f;
+  float nearPlane = 0.1f;
+  float farPlane = 100.0f;
+
+  glm::mat4 view() const;
+  glm::mat4 projection(float aspect) const;
+};
+
+// A mesh as loaded, in object space: triangles, per-vertex straight RGBA (white when the file
+// has none).
+struct TriangleMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec4> colors;
+  std::vector<uint32_t> indices;  // three per triangle
+};
+
+enum class ObjectType : uint8_t { Mesh, Particles };
+
+struct SceneObject {
+  ObjectType type = ObjectType::Mesh;
+  std::optional<glm::vec4> colorOverride;
+  glm::vec3 position{0.0f};
+  glm::vec3 rotationDegrees{0.0f};
+  float scale = 1.0f;
+  std::optional<bool> transparentOverride;
+
+  // Mesh objects.
+  std::string filePath;  // resolved against the scene file's folder
+  TriangleMesh mesh;
+
+  // Particle objects: `count` camera-facing quads of edge `size` at seeded positions inside a
+  // sphere of radius `scale` around `position`.
+  int particleCount = 0;
+  uint32_t seed = 1;
+  float particleSize = 0.5f;
+
+  glm::mat4 modelMatrix() const;  // T·Rz·Ry·Rx·S
+  bool isTransparent() const;     // the override, else alpha < 1 anywhere
+};
+
+struct Scene {
+  glm::vec3 background{0.0f};
+  int width = 640, height = 360;
+  Camera camera;
+  std::vector<SceneObject> objects;
+  std::string sourcePath;
+};
+
+// Loads a scene file and its meshes. Throws SceneError naming the file, the JSON field
+// (e.g. "objects[2].color_override[3]") and what was expected.
+Scene loadScene(const std::string& path);
+// Parses scene JSON text; `path` names it in errors and anchors relative mesh paths.
+Scene parseScene(const std::string& jsonText, const std::string& path);
+// Loads a mesh through Assimp (OBJ, PLY ascii/binary with vertex colours, FBX, glTF, ...).
+TriangleMesh loadMesh(const std::string& path);
+
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace oitref

@@ -1,0 +1,99 @@
+#include "oitref/scene_geometry.h"
+
+#include <random>
+
+#include <glm/geometric.hpp>
+
+namespace oitref {
+namespace {
+
+// Seeded and portable: std::mt19937's sequence is fixed by the standard; the distributions are
+// not, so floats are made from its output here.
+struct Random {
+  std::mt19937 engine;
+  explicit Random(uint32_t seed) : engine(seed) {}
+  double uniform(double lo, double hi) { return lo + (hi - lo) * double(engine() >> 8) * (1.0 / 16777216.0); }
+};
+
+void pushVertex(ScenePart& part, const glm::vec3& p, const glm::vec4& color, glm::vec2 uv) {
+  part.positions.push_back(p);
+  const float a[kSceneAttributeCount] = {color.r, color.g, color.b, color.a, uv.x, uv.y};
+  part.attributes.insert(part.attributes.end(), a, a + kSceneAttributeCount);
+}
+
+ScenePart meshPart(const SceneObject& o) {
+  ScenePart part;
+  const glm::dmat4 model(o.modelMatrix());
+  for (size_t v = 0; v < o.mesh.positions.size(); ++v) {
+    const glm::dvec4 w = model * glm::dvec4(glm::dvec3(o.mesh.positions[v]), 1.0);
+    pushVertex(part, glm::vec3(w), o.colorOverride.value_or(o.mesh.colors[v]), glm::vec2(0.0f));
+  }
+  part.indices = o.mesh.indices;
+  return part;
+}
+
+ScenePart particlePart(const SceneObject& o, const Camera& camera) {
+  ScenePart part;
+  const glm::dvec3 forward = glm::normalize(glm::dvec3(camera.target - camera.position));
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(camera.up)));
+  const glm::dvec3 up = glm::cross(right, forward);
+  const double half = 0.5 * double(o.particleSize);
+  const glm::vec4 color = o.colorOverride.value_or(glm::vec4(1.0f));
+  Random rng(o.seed);
+  for (int i = 0; i < o.particleCount; ++i) {
+    glm::dvec3 p;
+    do {  // uniform in the unit ball, by rejection
+      p = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+    } while (glm::dot(p, p) > 1.0);
+    const glm::dvec3 c = glm::dvec3(o.position) + p * double(o.scale);
+    const uint32_t base = uint32_t(part.positions.size());
+    pushVertex(part, glm::vec3(c - right * half - up * half), color, {0, 0});
+    pushVertex(part, glm::vec3(c + right * half - up * half), color, {1, 0});
+    pushVertex(part, glm::vec3(c + right * half + up * half), color, {1, 1});
+    pushVertex(part, glm::vec3(c - right * half + up * half), color, {0, 1});
+    part.indices.insert(part.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+  }
+  return part;
+}
+
+}  // namespace
+
+size_t SceneGeometry::triangleCount() const {
+  size_t n = 0;
+  for (const ScenePart& p : parts) n += p.triangleCount();
+  return n;
+}
+
+SceneGeometry buildSceneGeometry(const Scene& scene) {
+  SceneGeometry g;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& o = scene.objects[i];
+    ScenePart part = o.type == ObjectType::Mesh ? meshPart(o) : particlePart(o, scene.camera);
+    part.objectIndex = i;
+    part.transparent = o.isTransparent();
+    g.parts.push_back(std::move(part));
+  }
+  return g;
+}
+
+Geometry toClipGeometry(const ScenePart& part, const glm::mat4& viewProjection) {
+  Geometry g = Geometry::fromVertexShader(part.positions.size(), kSceneAttributeCount, [&](size_t v, float* out) {
+    for (int k = 0; k < kSceneAttributeCount; ++k) out[k] = part.attributes[v * kSceneAttributeCount + size_t(k)];
+    return viewProjection * glm::vec4(part.positions[v], 1.0f);
+  });
+  g.indices = part.indices;
+  return g;
+}
+
+glm::vec4 shadeSurface(const SceneObject& object, const float* a) {
+  glm::vec4 c(a[0], a[1], a[2], a[3]);
+  if (object.type == ObjectType::Particles) {
+    const float x = 2.0f * a[4] - 1.0f, y = 2.0f * a[5] - 1.0f;
+    const float r2 = x * x + y * y;
+    const float falloff = r2 < 1.0f ? (1.0f - r2) * (1.0f - r2) : 0.0f;
+    c.a = c.a * falloff;
+  }
+  return c;
+}
+
+}  // namespace oitref

@@ -1,0 +1,196 @@
+// Scene JSON → Scene, with errors that name the file and the field. Format: oitref/scene.h.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "oitref/scene.h"
+
+namespace oitref {
+namespace {
+
+using json = nlohmann::json;
+
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+class Reader {
+ public:
+  explicit Reader(std::string path) : path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw SceneError(path_ + ": " + (field.empty() ? "" : field + ": ") + what);
+  }
+
+  void onlyKeys(const json& object, const std::string& field, const std::vector<std::string>& allowed) const {
+    for (const auto& [key, value] : object.items()) {
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      const auto nearest = std::min_element(allowed.begin(), allowed.end(), [&](const auto& x, const auto& y) {
+        return editDistance(key, x) < editDistance(key, y);
+      });
+      fail(field.empty() ? key : field + "." + key,
+           "unknown key" + (editDistance(key, *nearest) <= 3 ? " (did you mean '" + *nearest + "'?)" : std::string()));
+    }
+  }
+
+  float number(const json& v, const std::string& field) const {
+    if (!v.is_number()) fail(field, "expected a number, got " + std::string(v.type_name()));
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(field, "expected a finite number");
+    return float(d);
+  }
+
+  template <int N>
+  glm::vec<N, float> vector(const json& v, const std::string& field) const {
+    if (!v.is_array() || v.size() != N)
+      fail(field, "expected an array of " + std::to_string(N) + " numbers");
+    glm::vec<N, float> out;
+    for (int i = 0; i < N; ++i) out[i] = number(v[size_t(i)], field + "[" + std::to_string(i) + "]");
+    return out;
+  }
+
+  int integer(const json& v, const std::string& field, long lo, long hi) const {
+    if (!v.is_number_integer()) fail(field, "expected an integer, got " + std::string(v.type_name()));
+    const long x = v.get<long>();
+    if (x < lo || x > hi) fail(field, "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(x));
+    return int(x);
+  }
+
+  glm::vec4 color(const json& v, const std::string& field) const {
+    const glm::vec4 c = vector<4>(v, field);
+    for (int i = 0; i < 4; ++i)
+      if (c[i] < 0.0f) fail(field + "[" + std::to_string(i) + "]", "colour components must not be negative");
+    if (c.a > 1.0f) fail(field + "[3]", "alpha must lie in [0, 1]");
+    return c;
+  }
+
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+Camera readCamera(const Reader& r, const json& j) {
+  const std::string f = "camera";
+  if (!j.is_object()) r.fail(f, "expected an object");
+  r.onlyKeys(j, f, {"position", "target", "up", "fov_y", "near", "far"});
+  Camera c;
+  if (j.contains("position")) c.position = r.vector<3>(j["position"], f + ".position");
+  if (j.contains("target")) c.target = r.vector<3>(j["target"], f + ".target");
+  if (j.contains("up")) c.up = r.vector<3>(j["up"], f + ".up");
+  if (j.contains("fov_y")) c.fovYDegrees = r.number(j["fov_y"], f + ".fov_y");
+  if (j.contains("near")) c.nearPlane = r.number(j["near"], f + ".near");
+  if (j.contains("far")) c.farPlane = r.number(j["far"], f + ".far");
+  if (!(c.fovYDegrees > 0.0f && c.fovYDegrees < 180.0f)) r.fail(f + ".fov_y", "must lie in (0, 180) degrees");
+  if (!(c.nearPlane > 0.0f)) r.fail(f + ".near", "must be positive");
+  if (!(c.farPlane > c.nearPlane)) r.fail(f + ".far", "must be greater than near");
+  const glm::vec3 forward = c.target - c.position;
+  if (glm::dot(forward, forward) == 0.0f) r.fail(f + ".target", "must differ from the position");
+  if (glm::dot(c.up, c.up) == 0.0f) r.fail(f + ".up", "must not be zero");
+  const glm::vec3 side = glm::cross(forward, c.up);
+  if (glm::dot(side, side) <= 1e-12f * glm::dot(forward, forward) * glm::dot(c.up, c.up))
+    r.fail(f + ".up", "must not be parallel to the view direction");
+  return c;
+}
+
+SceneObject readObject(const Reader& r, const json& j, const std::string& f, const std::filesystem::path& folder) {
+  if (!j.is_object()) r.fail(f, "expected an object");
+  if (!j.contains("type") || !j["type"].is_string()) r.fail(f + ".type", "expected \"mesh\" or \"particle\"");
+  const std::string type = j["type"].get<std::string>();
+  SceneObject o;
+  if (type == "mesh") {
+    o.type = ObjectType::Mesh;
+    r.onlyKeys(j, f, {"type", "file_path", "color_override", "position", "rotation", "scale", "transparent"});
+    if (!j.contains("file_path") || !j["file_path"].is_string()) r.fail(f + ".file_path", "expected a path string");
+    o.filePath = (folder / j["file_path"].get<std::string>()).lexically_normal().string();
+  } else if (type == "particle") {
+    o.type = ObjectType::Particles;
+    r.onlyKeys(j, f, {"type", "count", "seed", "color_override", "position", "rotation", "scale", "size", "transparent"});
+    if (!j.contains("count")) r.fail(f + ".count", "missing: the number of particles");
+    o.particleCount = r.integer(j["count"], f + ".count", 0, 1'000'000);
+    if (j.contains("seed")) o.seed = uint32_t(r.integer(j["seed"], f + ".seed", 0, 0xffffffffL));
+    if (j.contains("size")) o.particleSize = r.number(j["size"], f + ".size");
+    if (!(o.particleSize > 0.0f)) r.fail(f + ".size", "must be positive");
+  } else {
+    r.fail(f + ".type", "unknown object type '" + type + "' (valid: mesh, particle)");
+  }
+  if (j.contains("color_override")) o.colorOverride = r.color(j["color_override"], f + ".color_override");
+  if (j.contains("position")) o.position = r.vector<3>(j["position"], f + ".position");
+  if (j.contains("rotation")) o.rotationDegrees = r.vector<3>(j["rotation"], f + ".rotation");
+  if (j.contains("scale")) o.scale = r.number(j["scale"], f + ".scale");
+  if (!(o.scale > 0.0f)) r.fail(f + ".scale", "must be positive");
+  if (j.contains("transparent")) {
+    if (!j["transparent"].is_boolean()) r.fail(f + ".transparent", "expected true or false");
+    o.transparentOverride = j["transparent"].get<bool>();
+  }
+  return o;
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& jsonText, const std::string& path) {
+  const Reader r(path);
+  json j;
+  try {
+    j = json::parse(jsonText, nullptr, true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
+    r.fail("", std::string("malformed JSON: ") + e.what());
+  }
+  if (!j.is_object()) r.fail("", "expected a JSON object at the top level");
+  r.onlyKeys(j, "", {"back", "resolution", "camera", "objects"});
+  Scene s;
+  s.sourcePath = path;
+  if (j.contains("back")) {
+    s.background = r.vector<3>(j["back"], "back");
+    for (int i = 0; i < 3; ++i)
+      if (s.background[i] < 0.0f) r.fail("back[" + std::to_string(i) + "]", "colour components must not be negative");
+  }
+  if (j.contains("resolution")) {
+    const json& res = j["resolution"];
+    if (!res.is_array() || res.size() != 2) r.fail("resolution", "expected [width, height]");
+    s.width = r.integer(res[0], "resolution[0]", 1, 16384);
+    s.height = r.integer(res[1], "resolution[1]", 1, 16384);
+  }
+  if (j.contains("camera")) s.camera = readCamera(r, j["camera"]);
+  if (!j.contains("objects") || !j["objects"].is_array()) r.fail("objects", "expected an array of objects");
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  for (size_t i = 0; i < j["objects"].size(); ++i)
+    s.objects.push_back(readObject(r, j["objects"][i], "objects[" + std::to_string(i) + "]", folder));
+  return s;
+}
+
+Scene loadScene(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot read the scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  Scene s = parseScene(text.str(), path);
+  for (size_t i = 0; i < s.objects.size(); ++i) {
+    SceneObject& o = s.objects[i];
+    if (o.type != ObjectType::Mesh) continue;
+    try {
+      o.mesh = loadMesh(o.filePath);
+    } catch (const SceneError& e) {
+      throw SceneError(path + ": objects[" + std::to_string(i) + "].file_path: " + e.what());
+    }
+  }
+  return s;
+}
+
+}  // namespace oitref
