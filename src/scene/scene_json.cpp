@@ -9,26 +9,12 @@
 #include <nlohmann/json.hpp>
 
 #include "oitref/scene.h"
+#include "util/did_you_mean.h"
 
 namespace oitref {
 namespace {
 
 using json = nlohmann::json;
-
-size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
 
 class Reader {
  public:
@@ -41,11 +27,7 @@ class Reader {
   void onlyKeys(const json& object, const std::string& field, const std::vector<std::string>& allowed) const {
     for (const auto& [key, value] : object.items()) {
       if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-      const auto nearest = std::min_element(allowed.begin(), allowed.end(), [&](const auto& x, const auto& y) {
-        return editDistance(key, x) < editDistance(key, y);
-      });
-      fail(field.empty() ? key : field + "." + key,
-           "unknown key" + (editDistance(key, *nearest) <= 3 ? " (did you mean '" + *nearest + "'?)" : std::string()));
+      fail(field.empty() ? key : field + "." + key, "unknown key" + util::didYouMean(key, allowed));
     }
   }
 

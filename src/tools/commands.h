@@ -8,5 +8,7 @@ namespace oitref::tools {
 
 void addBlendCommand(CLI::App& app, int& exitCode);
 void addDemoCommand(CLI::App& app, int& exitCode);
+void addRenderCommand(CLI::App& app, int& exitCode);
+void addMethodsCommand(CLI::App& app, int& exitCode);
 
 }  // namespace oitref::tools

@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   int exitCode = 0;
   oitref::tools::addBlendCommand(app, exitCode);
   oitref::tools::addDemoCommand(app, exitCode);
+  oitref::tools::addRenderCommand(app, exitCode);
+  oitref::tools::addMethodsCommand(app, exitCode);
   CLI11_PARSE(app, argc, argv);
   return exitCode;
 }

@@ -1,0 +1,113 @@
+// OIT methods: each is the sequence of passes a GPU would run, over the emulated pipeline, on the
+// attachments it declares.
+//
+// Every method draws the scene's opaque objects into "opaque" (RGBA8, cleared to the
+// background) and "depth" (d24, cleared to 1), runs its own transparent passes, and composites
+// into "opaque" as a GPU would present it. Beside the declared attachments oitref keeps one
+// analysis target, an RGBA32F copy of the background that receives the same composite, so the
+// result is also available without the final 8-bit quantisation; it is not counted in the
+// memory a GPU would need.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "oitref/depth.h"
+#include "oitref/format.h"
+#include "oitref/image.h"
+#include "oitref/profile.h"
+#include "oitref/renderer.h"
+#include "oitref/scene.h"
+#include "oitref/scene_geometry.h"
+
+namespace oitref {
+
+struct AttachmentDecl {
+  std::string name;
+  std::string purpose;
+  bool isDepth = false;
+  Format format{};                       // colour attachments
+  DepthFormat depthFormat = DepthFormat::D24;  // depth attachments
+  int bytesPerTexel() const;
+  std::string formatName() const;
+};
+
+struct MethodOption {
+  std::string key, defaultValue, meaning;
+  std::vector<std::string> choices;  // empty: free-form (a number)
+};
+
+struct MethodInfo {
+  std::string name, summary;
+  std::vector<MethodOption> options;
+};
+
+// Option values by key ("accum" -> "rgba16f"); every key of the method, defaults filled in.
+class MethodOptions {
+ public:
+  // Throws std::invalid_argument for unknown keys (with the nearest valid key) or values outside
+  // the option's choices.
+  MethodOptions(const MethodInfo& info, const std::map<std::string, std::string>& given);
+  const std::string& text(const std::string& key) const;
+  double number(const std::string& key) const;  // throws naming the key when not a number
+  bool flag(const std::string& key) const;      // "true" / "false"
+  const std::map<std::string, std::string>& all() const { return values_; }
+
+ private:
+  std::string method_;
+  std::map<std::string, std::string> values_;
+};
+
+struct FrameContext {
+  const Scene& scene;
+  const SceneGeometry& geometry;
+  int width, height;
+  Profile profile;
+  Renderer& renderer;
+};
+
+struct PassReport {
+  std::string name;
+  double ms = 0;
+  DrawStats stats;
+};
+
+// One transparent fragment as the A-buffer stores it.
+struct TransparentFragment {
+  float windowDepth, viewDepth;
+  glm::vec4 color;  // straight RGBA from the object's shading
+  uint32_t object, primitive;
+};
+
+struct FrameResult {
+  Image final8;      // the presented RGBA8 target ("opaque" after compositing)
+  Image finalFloat;  // the same composite into the RGBA32F analysis target
+  std::vector<PassReport> passes;
+  std::vector<std::pair<std::string, std::string>> facts;  // e.g. {"passes needed", "7"}
+  std::vector<std::pair<std::string, Image>> dump;         // every colour attachment, by name
+  // The A-buffer's fragments per pixel in submission order: pixel p = y·width + x owns
+  // fragments[fragmentStart[p] .. fragmentStart[p + 1]). Empty for other methods.
+  std::vector<uint64_t> fragmentStart;
+  std::vector<TransparentFragment> fragments;
+
+  double frameMs() const;
+  uint64_t fragmentsShaded() const;
+};
+
+class Method {
+ public:
+  virtual ~Method() = default;
+  virtual const MethodInfo& info() const = 0;
+  // What the method allocates at each pixel, as a GPU would.
+  virtual std::vector<AttachmentDecl> attachments() const = 0;
+  virtual FrameResult render(const FrameContext& context) = 0;
+  int bytesPerPixel() const;
+};
+
+std::vector<MethodInfo> allMethods();
+// Throws std::invalid_argument for an unknown method (with the nearest name) or bad options.
+std::unique_ptr<Method> makeMethod(const std::string& name, const std::map<std::string, std::string>& options = {});
+
+}  // namespace oitref

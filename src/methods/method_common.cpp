@@ -1,0 +1,120 @@
+#include "methods/method_common.h"
+
+#include <chrono>
+#include <stdexcept>
+
+namespace oitref::methods {
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::vector<AttachmentDecl> opaqueAttachments() {
+  return {colorAttachment("opaque", "rgba8", "opaque background; the composite lands here"),
+          depthAttachment("depth", "opaque depth; transparent passes test against it")};
+}
+
+FrameTargets::FrameTargets(const std::vector<AttachmentDecl>& declared, int width, int height)
+    : analysis_(makeFormat(FormatId::RGBA32F), width, height) {
+  for (const AttachmentDecl& d : declared) {
+    order_.push_back(d.name);
+    if (d.isDepth) depths_.emplace(d.name, DepthBuffer(d.depthFormat, width, height));
+    else colors_.emplace(d.name, Image(d.format, width, height));
+  }
+}
+
+Image& FrameTargets::color(const std::string& name) {
+  const auto it = colors_.find(name);
+  if (it == colors_.end()) throw std::logic_error("method uses undeclared colour attachment '" + name + "'");
+  return it->second;
+}
+
+DepthBuffer& FrameTargets::depth(const std::string& name) {
+  const auto it = depths_.find(name);
+  if (it == depths_.end()) throw std::logic_error("method uses undeclared depth attachment '" + name + "'");
+  return it->second;
+}
+
+void FrameTargets::finish(FrameResult& result, const std::string& finalName) {
+  result.final8 = color(finalName);
+  result.finalFloat = std::move(analysis_);
+  for (const std::string& name : order_) {
+    const auto it = colors_.find(name);
+    if (it != colors_.end()) result.dump.emplace_back(name, std::move(it->second));
+  }
+}
+
+glm::mat4 PassRunner::viewProjection() const {
+  const Camera& c = context_.scene.camera;
+  return c.projection(float(context_.width) / float(context_.height)) * c.view();
+}
+
+void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Image& opaque = targets.color("opaque");
+  const glm::vec4 background(context_.scene.background, 1.0f);
+  opaque.clear(background, context_.profile);
+  targets.analysis().clear(background, context_.profile);
+  DepthBuffer& depth = targets.depth("depth");
+  depth.clear(1.0);
+  Framebuffer fb;
+  fb.color[0] = &opaque;
+  fb.color[1] = &targets.analysis();
+  fb.depth = &depth;
+  PipelineState st;
+  st.profile = context_.profile;
+  st.depth = {true, CompareFunc::Less, true, false};
+  PassReport report{"opaque", 0, {}};
+  const glm::mat4 vp = viewProjection();
+  for (const ScenePart& part : context_.geometry.parts) {
+    if (part.transparent && !everything) continue;
+    const SceneObject& object = context_.scene.objects[part.objectIndex];
+    report.stats += context_.renderer.draw(fb, st, toClipGeometry(part, vp),
+                                           {[&](const FragmentInput& in, FragmentOutput& out) {
+                                             const glm::vec4 c = shadeSurface(object, in.attributes);
+                                             out.write(0, glm::vec4(glm::vec3(c), 1.0f));
+                                             out.write(1, glm::vec4(glm::vec3(c), 1.0f));
+                                           }});
+  }
+  report.ms = msSince(t0);
+  result_.passes.push_back(report);
+}
+
+void PassRunner::transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                                 const TransparentShader& shader, bool mayDiscard) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PassReport report{name, 0, {}};
+  const glm::mat4 vp = viewProjection();
+  for (const ScenePart& part : context_.geometry.parts) {
+    if (!part.transparent) continue;
+    const SceneObject& object = context_.scene.objects[part.objectIndex];
+    currentObject_ = part.objectIndex;
+    FragmentProgram program{[&](const FragmentInput& in, FragmentOutput& out) {
+                              shader(in, shadeSurface(object, in.attributes), out);
+                            },
+                            mayDiscard, false, false};
+    report.stats += context_.renderer.draw(fb, state, toClipGeometry(part, vp), program);
+  }
+  report.ms = msSince(t0);
+  result_.passes.push_back(report);
+}
+
+void PassRunner::fullscreenPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                                const FragmentShader& shader) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PassReport report{name, 0, context_.renderer.drawFullscreen(fb, state, {shader})};
+  report.ms = msSince(t0);
+  result_.passes.push_back(report);
+}
+
+BlendState overBlend() {
+  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
+                              BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);
+}
+
+DepthState transparentDepth() { return {true, CompareFunc::Less, false, false}; }
+
+}  // namespace oitref::methods

@@ -1,0 +1,82 @@
+// What every OIT method shares: its declared attachments, allocated exactly; the opaque pass;
+// drawing the transparent objects in submission order (object order, then triangle order);
+// and the full-screen composite. Each method file then reads like its paper's pseudocode.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <string>
+
+#include "oitref/method.h"
+
+namespace oitref::methods {
+
+// The declared attachments of one frame, allocated exactly, plus the RGBA32F analysis copy of
+// the background ("opaque_float", see oitref/method.h).
+class FrameTargets {
+ public:
+  FrameTargets(const std::vector<AttachmentDecl>& declared, int width, int height);
+  Image& color(const std::string& name);
+  DepthBuffer& depth(const std::string& name);
+  Image& analysis() { return analysis_; }
+  // Moves every colour attachment and the finals into the result.
+  void finish(FrameResult& result, const std::string& finalName);
+
+ private:
+  std::map<std::string, Image> colors_;
+  std::map<std::string, DepthBuffer> depths_;
+  std::vector<std::string> order_;
+  Image analysis_;
+};
+
+inline AttachmentDecl colorAttachment(std::string name, const std::string& format, std::string purpose) {
+  AttachmentDecl d;
+  d.name = std::move(name);
+  d.format = parseFormat(format);
+  d.purpose = std::move(purpose);
+  return d;
+}
+inline AttachmentDecl depthAttachment(std::string name, std::string purpose) {
+  AttachmentDecl d;
+  d.name = std::move(name);
+  d.isDepth = true;
+  d.depthFormat = DepthFormat::D24;
+  d.purpose = std::move(purpose);
+  return d;
+}
+// "opaque" RGBA8 and "depth" d24: the start of every method's list.
+std::vector<AttachmentDecl> opaqueAttachments();
+
+// Straight colour of the fragment's object: the shading function shared with the ray caster.
+using TransparentShader = std::function<void(const FragmentInput&, const glm::vec4& color, FragmentOutput&)>;
+
+class PassRunner {
+ public:
+  PassRunner(const FrameContext& context, FrameResult& result) : context_(context), result_(result) {}
+  const FrameContext& context() const { return context_; }
+  glm::mat4 viewProjection() const;
+
+  // Clears opaque (and the analysis copy) to the background and depth to 1, then draws the
+  // opaque objects (every object when `everything`) with depth test LESS and writes; alpha 1.
+  void opaquePass(FrameTargets& targets, bool everything = false);
+  // Draws the transparent objects in submission order into fb with `state`; the shader gets
+  // each fragment's straight colour from the object's shading function.
+  void transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                       const TransparentShader& shader, bool mayDiscard = false);
+  // Index (in the scene) of the object whose triangles are being drawn.
+  size_t currentObject() const { return currentObject_; }
+  // One full-screen pass.
+  void fullscreenPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const FragmentShader& shader);
+
+ private:
+  const FrameContext& context_;
+  FrameResult& result_;
+  size_t currentObject_ = 0;
+};
+
+// The blend state a method composites with, and GL's OVER.
+BlendState overBlend();  // src_alpha, one_minus_src_alpha; alpha one, one_minus_src_alpha
+// Depth state of the transparent passes: test LESS against the opaque depth, no writes.
+DepthState transparentDepth();
+
+}  // namespace oitref::methods

@@ -1,0 +1,24 @@
+// Each method's description and factory; one source file per method.
+#pragma once
+
+#include <memory>
+
+#include "oitref/method.h"
+
+namespace oitref::methods {
+
+
+const MethodInfo& opaqueInfo();
+std::unique_ptr<Method> makeOpaque(const MethodOptions& options);
+const MethodInfo& overInfo();
+std::unique_ptr<Method> makeOver(const MethodOptions& options);
+const MethodInfo& wsumInfo();
+std::unique_ptr<Method> makeWsum(const MethodOptions& options);
+const MethodInfo& wavgInfo();
+std::unique_ptr<Method> makeWavg(const MethodOptions& options);
+const MethodInfo& wboitInfo();
+std::unique_ptr<Method> makeWboit(const MethodOptions& options);
+const MethodInfo& abufferInfo();
+std::unique_ptr<Method> makeAbuffer(const MethodOptions& options);
+
+}  // namespace oitref::methods

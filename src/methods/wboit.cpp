@@ -1,0 +1,129 @@
+// Weighted blended OIT (McGuire & Bavoil 2013, listing 3), Rožek's thesis Algorithm 4, eq. 2.5–2.7:
+//   accum  += (c·α·w, α·w)            blended ONE, ONE
+//   reveal *= (1 − α)                 blended ZERO, ONE_MINUS_SRC_COLOR, cleared to 1
+//   composite (accum.rgb / clamp(accum.a, 1e-4, 5e4), reveal) blended into the background with
+//   C_f = C_s·(1 − α_s) + C_d·α_s
+// Weights w(z, α):
+//   thesis W1–W5 on the window depth z ∈ [0,1] (with `adaptive`, z / z_s, z_s the opaque depth
+//   at the pixel): one: 1, z3: 1/z³, z5: 1/z⁵, az3: α/z³, az5: α/z⁵
+//   McGuire–Bavoil on the view depth |z| (eq. 7–9) or the window depth d (eq. 10):
+//   mb7:  α·clamp(10 / (1e-5 + (|z|/5)² + (|z|/200)⁶), 1e-2, 3e3)
+//   mb8:  α·clamp(10 / (1e-5 + (|z|/10)³ + (|z|/200)⁶), 1e-2, 3e3)
+//   mb9:  α·clamp(0.03 / (1e-5 + (|z|/200)⁴), 1e-2, 3e3)
+//   mb10: α·max(1e-2, 3e3·(1 − d)³)
+// Powers are products (methods/power.h), so the weights are the same bits everywhere.
+#include <algorithm>
+
+#include "methods/method_common.h"
+#include "methods/methods.h"
+#include "methods/power.h"
+
+namespace oitref::methods {
+namespace {
+
+enum class Weight { One, Z3, Z5, AZ3, AZ5, MB7, MB8, MB9, MB10 };
+
+Weight parseWeight(const std::string& w) {
+  static const char* names[] = {"one", "z3", "z5", "az3", "az5", "mb7", "mb8", "mb9", "mb10"};
+  for (int i = 0; i < 9; ++i)
+    if (w == names[i]) return Weight(i);
+  return Weight::One;  // MethodOptions has already checked the choice
+}
+
+float weight(Weight kind, float alpha, float windowZ, float viewZ) {
+  switch (kind) {
+    case Weight::One: return 1.0f;
+    case Weight::Z3: return 1.0f / powInt(windowZ, 3);
+    case Weight::Z5: return 1.0f / powInt(windowZ, 5);
+    case Weight::AZ3: return alpha / powInt(windowZ, 3);
+    case Weight::AZ5: return alpha / powInt(windowZ, 5);
+    case Weight::MB7: return alpha * std::clamp(10.0f / (1e-5f + powInt(viewZ / 5.0f, 2) + powInt(viewZ / 200.0f, 6)), 1e-2f, 3e3f);
+    case Weight::MB8: return alpha * std::clamp(10.0f / (1e-5f + powInt(viewZ / 10.0f, 3) + powInt(viewZ / 200.0f, 6)), 1e-2f, 3e3f);
+    case Weight::MB9: return alpha * std::clamp(0.03f / (1e-5f + powInt(viewZ / 200.0f, 4)), 1e-2f, 3e3f);
+    case Weight::MB10: return alpha * std::max(1e-2f, 3e3f * powInt(1.0f - windowZ, 3));
+  }
+  return 1.0f;
+}
+
+class Wboit final : public Method {
+ public:
+  explicit Wboit(const MethodOptions& o)
+      : accumFormat_(o.text("accum")), revealFormat_(o.text("reveal")), weight_(parseWeight(o.text("weight"))),
+        adaptive_(o.flag("adaptive")) {}
+  const MethodInfo& info() const override { return wboitInfo(); }
+  std::vector<AttachmentDecl> attachments() const override {
+    std::vector<AttachmentDecl> a = opaqueAttachments();
+    a.push_back(colorAttachment("accum", accumFormat_, "C2q: Σ(c·α·w, α·w), blended ONE, ONE"));
+    a.push_back(colorAttachment("reveal", revealFormat_, "C2s: Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
+    return a;
+  }
+  FrameResult render(const FrameContext& context) override {
+    FrameResult result;
+    FrameTargets t(attachments(), context.width, context.height);
+    PassRunner run(context, result);
+    run.opaquePass(t);                                               // steps 1–3
+    Image& accum = t.color("accum");
+    Image& reveal = t.color("reveal");
+    const DepthBuffer& depth = t.depth("depth");
+    reveal.clear(glm::vec4(1.0f), context.profile);                  // step 5
+    accum.clear(glm::vec4(0.0f), context.profile);                   // step 6
+    Framebuffer fb;                                                  // steps 4, 8
+    fb.color[0] = &accum;
+    fb.color[1] = &reveal;
+    fb.depth = &t.depth("depth");
+    PipelineState st;
+    st.profile = context.profile;
+    st.depth = transparentDepth();                                   // step 7
+    st.blend[0] = BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One);              // 11
+    st.blend[1] = BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);  // 10
+    const Weight kind = weight_;
+    const bool adaptive = adaptive_;
+    run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+      float z = in.depth;
+      if (adaptive) z = z / float(depth.depth(in.x, in.y));  // z / z_s: the opaque depth behind it
+      const float w = weight(kind, c.a, z, in.viewDepth);
+      out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));     // step 12: S_accum (eq. 2.6)
+      out.write(1, glm::vec4(c.a));
+    });
+    // Steps 13–14: S_oit (eq. 2.7) blended into the background.
+    Framebuffer out;
+    out.color[0] = &t.color("opaque");
+    out.color[1] = &t.analysis();
+    PipelineState composite;
+    composite.profile = context.profile;
+    composite.blend[0] = composite.blend[1] = BlendState::separate(
+        BlendEquation::Add, BlendEquation::Add, BlendFactor::OneMinusSrcAlpha, BlendFactor::SrcAlpha, BlendFactor::Zero,
+        BlendFactor::One);
+    run.fullscreenPass("composite", out, composite, [&](const FragmentInput& in, FragmentOutput& o) {
+      const glm::vec4 a = accum.fetch(in.x, in.y);
+      const float r = reveal.fetch(in.x, in.y).r;
+      const glm::vec4 s(glm::vec3(a) / std::clamp(a.a, 1e-4f, 5e4f), r);
+      o.write(0, s);
+      o.write(1, s);
+    });
+    t.finish(result, "opaque");
+    return result;
+  }
+
+ private:
+  std::string accumFormat_, revealFormat_;
+  Weight weight_;
+  bool adaptive_;
+};
+
+}  // namespace
+
+const MethodInfo& wboitInfo() {
+  static const MethodInfo info{
+      "wboit",
+      "weighted blended OIT (McGuire–Bavoil listing 3; thesis Algorithm 4)",
+      {{"accum", "rgba32f", "accumulation format (the thesis's Algorithm 4 uses RGBA32F)", {"rgba16f", "rgba32f"}},
+       {"reveal", "r32f", "revealage format (thesis: R32F; McGuire–Bavoil: R8)", {"r8", "r16f", "r32f"}},
+       {"weight", "az5", "w(z, α): thesis W1–W5 (one, z3, z5, az3, az5) or McGuire–Bavoil eq. 7–10 (mb7 … mb10)",
+        {"one", "z3", "z5", "az3", "az5", "mb7", "mb8", "mb9", "mb10"}},
+       {"adaptive", "false", "thesis weights on z / z_s, z_s the opaque depth at the pixel", {"true", "false"}}}};
+  return info;
+}
+std::unique_ptr<Method> makeWboit(const MethodOptions& o) { return std::make_unique<Wboit>(o); }
+
+}  // namespace oitref::methods

@@ -1,0 +1,72 @@
+// Weighted sum (Meshkin 2007), Rožek's thesis Algorithm 2 and eq. 2.1:
+//   C = Σ c_i·α_i + C0·(1 − Σ α_i)
+// No clamping: the background weight goes negative when Σα > 1, so images darken and leave the
+// gamut at high α (thesis §2.2).
+#include "methods/method_common.h"
+#include "methods/methods.h"
+
+namespace oitref::methods {
+namespace {
+
+class Wsum final : public Method {
+ public:
+  explicit Wsum(const MethodOptions& o) : accumFormat_(o.text("accum")) {}
+  const MethodInfo& info() const override { return wsumInfo(); }
+  std::vector<AttachmentDecl> attachments() const override {
+    std::vector<AttachmentDecl> a = opaqueAttachments();
+    a.push_back(colorAttachment("accum", accumFormat_, "C2: Σ(c·α, α), blended ONE, ONE"));
+    a.push_back(colorAttachment("final", "rgba8", "C3: the composite"));
+    return a;
+  }
+  FrameResult render(const FrameContext& context) override {
+    FrameResult result;
+    FrameTargets t(attachments(), context.width, context.height);
+    PassRunner run(context, result);
+    run.opaquePass(t);                                    // steps 1–3
+    Image& opaque = t.color("opaque");
+    Image& accum = t.color("accum");
+    accum.clear(glm::vec4(0.0f), context.profile);        // step 4
+    Framebuffer fb;                                       // step 5: D2 ← D1 (the same depth)
+    fb.color[0] = &accum;
+    fb.depth = &t.depth("depth");
+    PipelineState st;
+    st.profile = context.profile;
+    st.depth = transparentDepth();                        // steps 6–7
+    st.blend[0] = BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One);  // step 8
+    run.transparentPass("accumulate", fb, st, [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
+      out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));   // step 9
+    });
+    // Step 11: C_f = C2.rgb + C1.rgb·(1 − C2.a), a full-screen pass into C3 (and the analysis copy).
+    Image& final = t.color("final");
+    Image& analysis = t.analysis();
+    Framebuffer out;
+    out.color[0] = &final;
+    out.color[1] = &analysis;
+    PipelineState plain;
+    plain.profile = context.profile;
+    run.fullscreenPass("composite", out, plain, [&](const FragmentInput& in, FragmentOutput& o) {
+      const glm::vec4 sum = accum.fetch(in.x, in.y);
+      const float background = 1.0f - sum.a;
+      const glm::vec3 c1 = glm::vec3(opaque.fetch(in.x, in.y)), c0 = glm::vec3(analysis.fetch(in.x, in.y));
+      o.write(0, glm::vec4(glm::vec3(sum) + c1 * background, 1.0f));
+      o.write(1, glm::vec4(glm::vec3(sum) + c0 * background, 1.0f));
+    });
+    t.finish(result, "final");
+    return result;
+  }
+
+ private:
+  std::string accumFormat_;
+};
+
+}  // namespace
+
+const MethodInfo& wsumInfo() {
+  static const MethodInfo info{"wsum",
+                               "weighted sum (Meshkin; thesis Algorithm 2): C = Σc·α + C0·(1 − Σα)",
+                               {{"accum", "rgba16f", "accumulation target format", {"rgba16f", "rgba32f"}}}};
+  return info;
+}
+std::unique_ptr<Method> makeWsum(const MethodOptions& o) { return std::make_unique<Wsum>(o); }
+
+}  // namespace oitref::methods

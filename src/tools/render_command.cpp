@@ -1,0 +1,143 @@
+// `oitref render` and `oitref methods`.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "oitref/method.h"
+#include "tools/commands.h"
+#include "tools/image_io.h"
+
+namespace oitref::tools {
+namespace {
+
+struct RenderOptions {
+  std::string scene, method = "abuffer", out, dump, size, profile = "exact";
+  std::vector<std::string> sets;
+  int threads = 0, repeat = 1;
+  bool json = false;
+};
+
+std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c;
+  }
+  return o + "\"";
+}
+
+int runRender(const RenderOptions& o) {
+  std::map<std::string, std::string> options;
+  for (const std::string& kv : o.sets) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw std::invalid_argument("--set '" + kv + "': expected key=value");
+    options[kv.substr(0, eq)] = kv.substr(eq + 1);
+  }
+  std::unique_ptr<Method> method = makeMethod(o.method, options);
+  const MethodOptions resolved(method->info(), options);
+  Scene scene = loadScene(o.scene);
+  if (!o.size.empty()) {
+    int w = 0, h = 0;
+    char x = 0;
+    std::istringstream in(o.size);
+    if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || w > 16384 || h > 16384)
+      throw std::invalid_argument("--size '" + o.size + "': expected WxH with 1 ≤ W, H ≤ 16384");
+    scene.width = w, scene.height = h;
+  }
+  const Profile profile = parseProfile(o.profile);
+  const SceneGeometry geometry = buildSceneGeometry(scene);
+  Renderer renderer(RendererOptions{o.threads, 64});
+  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer};
+  FrameResult result;
+  std::vector<double> frameMs;
+  for (int i = 0; i < o.repeat; ++i) {
+    result = method->render(context);
+    frameMs.push_back(result.frameMs());
+  }
+  std::sort(frameMs.begin(), frameMs.end());
+  const double median = frameMs[frameMs.size() / 2];
+  if (!o.out.empty()) {
+    const std::string ext = std::filesystem::path(o.out).extension().string();
+    writeImage(o.out, ext == ".png" ? result.final8 : result.finalFloat);
+  }
+  if (!o.dump.empty()) {
+    std::filesystem::create_directories(o.dump);
+    for (const auto& [name, image] : result.dump) {
+      const bool png = image.format().encoding() == ChannelEncoding::Unorm && !image.format().isPacked();
+      writeImage((std::filesystem::path(o.dump) / (name + (png ? ".png" : ".exr"))).string(), image);
+    }
+  }
+  if (o.json) {
+    std::printf("{\"method\": %s, \"options\": {", jsonString(o.method).c_str());
+    bool first = true;
+    for (const auto& [k, v] : resolved.all()) std::printf("%s%s: %s", first ? "" : ", ", jsonString(k).c_str(), jsonString(v).c_str()), first = false;
+    std::printf("}, \"scene\": %s, \"width\": %d, \"height\": %d, \"profile\": %s, \"threads\": %d, \"passes\": [",
+                jsonString(o.scene).c_str(), scene.width, scene.height, jsonString(profile.name).c_str(), renderer.threads());
+    for (size_t i = 0; i < result.passes.size(); ++i)
+      std::printf("%s{\"name\": %s, \"ms\": %.4f, \"fragments\": %llu}", i ? ", " : "", jsonString(result.passes[i].name).c_str(),
+                  result.passes[i].ms, (unsigned long long)result.passes[i].stats.fragmentsShaded);
+    std::printf("], \"frame_ms\": %.4f, \"bytes_per_pixel\": %d, \"fragments\": %llu}\n", median, method->bytesPerPixel(),
+                (unsigned long long)result.fragmentsShaded());
+    return 0;
+  }
+  std::printf("%s  %s  %dx%d  threads %d  profile %s\n", o.scene.c_str(), o.method.c_str(), scene.width, scene.height,
+              renderer.threads(), profile.describe().c_str());
+  for (const auto& [k, v] : resolved.all()) std::printf("  option %s=%s\n", k.c_str(), v.c_str());
+  std::printf("attachments (%d bytes per pixel):\n", method->bytesPerPixel());
+  for (const AttachmentDecl& a : method->attachments())
+    std::printf("  %-8s %-8s %2d B  %s\n", a.name.c_str(), a.formatName().c_str(), a.bytesPerTexel(), a.purpose.c_str());
+  std::printf("passes:\n");
+  for (const PassReport& p : result.passes)
+    std::printf("  %-16s %9.2f ms %12llu fragments shaded\n", p.name.c_str(), p.ms, (unsigned long long)p.stats.fragmentsShaded);
+  for (const auto& [k, v] : result.facts) std::printf("  %s: %s\n", k.c_str(), v.c_str());
+  std::printf("frame %.2f ms%s\n", median, o.repeat > 1 ? (" (median of " + std::to_string(o.repeat) + ")").c_str() : "");
+  if (!o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, int& exitCode) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand("render", "Render a scene with one OIT method");
+  cmd->add_option("scene", o->scene, "Scene JSON file")->required();
+  cmd->add_option("--method", o->method, "Method (see `oitref methods`)")->capture_default_str();
+  cmd->add_option("--set", o->sets, "Method option key=value (repeatable)");
+  cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--size", o->size, "Override the scene's resolution, WxH");
+  cmd->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
+  cmd->add_option("--out", o->out, "Output image: .exr (float RGBA) or .png (the final RGBA8 bits)");
+  cmd->add_option("--dump", o->dump, "Write every colour attachment into this folder");
+  cmd->add_option("--repeat", o->repeat, "Render N times, report the median frame time")->check(CLI::Range(1, 1000));
+  cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
+  cmd->callback([o, &exitCode] {
+    try {
+      exitCode = runRender(*o);
+    } catch (const std::exception& e) {
+      std::cerr << "oitref render: " << e.what() << "\n";
+      exitCode = 2;
+    }
+  });
+}
+
+void addMethodsCommand(CLI::App& app, int& exitCode) {
+  CLI::App* cmd = app.add_subcommand("methods", "List the OIT methods and their options");
+  cmd->callback([&exitCode] {
+    for (const MethodInfo& m : allMethods()) {
+      std::printf("%-10s %s\n", m.name.c_str(), m.summary.c_str());
+      for (const MethodOption& opt : m.options) {
+        std::string choices;
+        for (const std::string& c : opt.choices) choices += (choices.empty() ? "" : "|") + c;
+        std::printf("    %s=%s  %s%s\n", opt.key.c_str(), opt.defaultValue.c_str(), opt.meaning.c_str(),
+                    choices.empty() ? "" : ("  [" + choices + "]").c_str());
+      }
+    }
+    exitCode = 0;
+  });
+}
+
+}  // namespace oitref::tools

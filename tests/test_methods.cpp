@@ -1,0 +1,240 @@
+// OIT methods against closed forms evaluated in double over the A-buffer's fragment lists
+// (thesis eq. 2.1, 2.2, 2.5): not snapshots of whatever came out.
+//
+// Bounds are derived from the formats: an accumulation of n terms into a format with unit
+// roundoff u (2^-24 for fp32, 2^-11 for fp16) rounds at most n + 2 times, each time by at most
+// u times the largest partial sum S, so the sums are within (n + 2)·u·S; the composite adds a few
+// fp32 roundings. We allow 4·(n + 2)·u·(1 + S) per channel.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "oitref/method.h"
+
+using namespace oitref;
+
+namespace {
+
+TriangleMesh quadMesh() {
+  TriangleMesh m;
+  m.positions = {{-0.5f, -0.5f, 0}, {0.5f, -0.5f, 0}, {0.5f, 0.5f, 0}, {-0.5f, 0.5f, 0}};
+  m.colors.assign(4, glm::vec4(1.0f));
+  m.indices = {0, 1, 2, 0, 2, 3};
+  return m;
+}
+
+SceneObject quad(glm::vec3 position, float scale, glm::vec4 color, glm::vec3 rotation = glm::vec3(0)) {
+  SceneObject o;
+  o.mesh = quadMesh();
+  o.position = position;
+  o.scale = scale;
+  o.colorOverride = color;
+  o.rotationDegrees = rotation;
+  return o;
+}
+
+// Overlapping, tilted and intersecting translucent quads (α from 0.05 to 0.95) and a particle
+// cloud, over an opaque backdrop that a few quads reach behind.
+Scene testScene() {
+  Scene s;
+  s.width = 64;
+  s.height = 48;
+  s.background = {0.2f, 0.3f, 0.4f};
+  s.camera.position = {0, 0, 6};
+  s.camera.target = {0, 0, 0};
+  s.camera.fovYDegrees = 50;
+  s.objects.push_back(quad({0, 0, -2}, 5, {0.8f, 0.7f, 0.2f, 1.0f}));
+  s.objects.back().transparentOverride = false;
+  s.objects.push_back(quad({-0.6f, 0.3f, 1.0f}, 2.0f, {1.0f, 0.1f, 0.1f, 0.35f}));
+  s.objects.push_back(quad({0.5f, 0.2f, 0.2f}, 2.2f, {0.1f, 0.9f, 0.2f, 0.6f}, {0, 35, 0}));
+  s.objects.push_back(quad({0.0f, -0.4f, -0.5f}, 2.5f, {0.2f, 0.2f, 1.0f, 0.9f}, {20, 0, 10}));
+  s.objects.push_back(quad({-0.3f, -0.2f, 0.6f}, 1.5f, {1.0f, 1.0f, 1.0f, 0.05f}));
+  s.objects.push_back(quad({0.2f, 0.1f, -2.6f}, 1.0f, {0.5f, 0.5f, 0.5f, 0.95f}));  // behind the backdrop
+  SceneObject cloud;
+  cloud.type = ObjectType::Particles;
+  cloud.particleCount = 12;
+  cloud.seed = 4;
+  cloud.position = {0.3f, 0.0f, 1.5f};
+  cloud.scale = 1.0f;
+  cloud.particleSize = 0.6f;
+  cloud.colorOverride = glm::vec4(0.9f, 0.9f, 0.9f, 0.7f);
+  s.objects.push_back(cloud);
+  return s;
+}
+
+struct Reference {
+  Scene scene;
+  FrameResult abuffer;
+  Image background;  // C0 per pixel in fp32: the scene without its transparent objects
+};
+
+FrameResult render(const Scene& scene, const std::string& method, const std::map<std::string, std::string>& options = {},
+                   int threads = 2) {
+  Renderer r(RendererOptions{threads, 16});
+  const SceneGeometry g = buildSceneGeometry(scene);
+  return makeMethod(method, options)->render(FrameContext{scene, g, scene.width, scene.height, exactProfile(), r});
+}
+
+const Reference& reference() {
+  static const Reference ref = [] {
+    Reference r;
+    r.scene = testScene();
+    r.abuffer = render(r.scene, "abuffer");
+    Scene opaqueOnly = r.scene;
+    std::erase_if(opaqueOnly.objects, [](const SceneObject& o) { return o.isTransparent(); });
+    r.background = render(opaqueOnly, "over").finalFloat;
+    return r;
+  }();
+  return ref;
+}
+
+// Calls check(x, y, fragments, C0) for every pixel.
+template <typename Check>
+void forEachPixel(const Check& check) {
+  const Reference& ref = reference();
+  const int w = ref.scene.width;
+  for (int y = 0; y < ref.scene.height; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t p = size_t(y) * w + x;
+      std::vector<TransparentFragment> f(ref.abuffer.fragments.begin() + std::ptrdiff_t(ref.abuffer.fragmentStart[p]),
+                                         ref.abuffer.fragments.begin() + std::ptrdiff_t(ref.abuffer.fragmentStart[p + 1]));
+      check(x, y, f, glm::dvec3(glm::vec3(ref.background.fetch(x, y))));
+    }
+}
+
+void requireClose(const Image& got, int x, int y, const glm::dvec3& want, double bound, const char* what) {
+  const glm::vec4 g = got.fetch(x, y);
+  for (int k = 0; k < 3; ++k)
+    if (!(std::abs(double(g[k]) - want[k]) <= bound))
+      FAIL(what << " pixel " << x << "," << y << " channel " << k << ": got " << g[k] << ", closed form " << want[k]
+                << ", bound " << bound);
+}
+
+glm::dvec3 overBackToFront(std::vector<TransparentFragment> f, glm::dvec3 c) {
+  std::stable_sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.viewDepth < b.viewDepth; });
+  for (size_t i = f.size(); i-- > 0;) c = glm::dvec3(glm::vec3(f[i].color)) * double(f[i].color.a) + c * (1.0 - f[i].color.a);
+  return c;
+}
+
+constexpr double kU32 = 1.0 / (1 << 24), kU16 = 1.0 / (1 << 11);
+
+}  // namespace
+
+TEST_CASE("methods: the A-buffer composite equals OVER of its sorted fragments in double", "[methods]") {
+  int layered = 0;
+  size_t deepest = 0;
+  forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+    layered += !f.empty();
+    deepest = std::max(deepest, f.size());
+    requireClose(reference().abuffer.finalFloat, x, y, overBackToFront(f, c0), 4 * (f.size() + 2) * kU32 * 2, "abuffer");
+  });
+  CHECK(layered > 500);
+  CHECK(deepest >= 5);
+  const FrameResult precise = render(reference().scene, "abuffer", {{"precision", "double"}});
+  forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+    requireClose(precise.finalFloat, x, y, overBackToFront(f, c0), 4 * kU32, "abuffer precision=double");
+  });
+}
+
+TEST_CASE("methods: unsorted OVER composites in submission order", "[methods]") {
+  const FrameResult over = render(reference().scene, "over");
+  forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c) {
+    for (const auto& fr : f) c = glm::dvec3(glm::vec3(fr.color)) * double(fr.color.a) + c * (1.0 - fr.color.a);
+    requireClose(over.finalFloat, x, y, c, 4 * (f.size() + 2) * kU32 * 2, "over");
+  });
+}
+
+TEST_CASE("methods: weighted sum is eq. 2.1 within its accumulation format", "[methods]") {
+  for (const char* accum : {"rgba16f", "rgba32f"}) {
+    const double u = std::string(accum) == "rgba16f" ? kU16 : kU32;
+    const FrameResult wsum = render(reference().scene, "wsum", {{"accum", accum}});
+    forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+      glm::dvec3 sum(0.0);
+      double alpha = 0;
+      for (const auto& fr : f) sum += glm::dvec3(glm::vec3(fr.color) * fr.color.a), alpha += fr.color.a;
+      requireClose(wsum.finalFloat, x, y, sum + c0 * (1.0 - alpha), 4 * (f.size() + 2) * u * (1 + 2 * alpha), accum);
+    });
+  }
+}
+
+TEST_CASE("methods: weighted average is Bavoil–Myers (or eq. 2.2 as printed)", "[methods]") {
+  for (const char* mode : {"bavoil_myers", "thesis_eq2.2"}) {
+    for (const char* accum : {"rgba16f", "rgba32f"}) {
+      const double u = std::string(accum) == "rgba16f" ? kU16 : kU32;
+      const FrameResult wavg = render(reference().scene, "wavg", {{"accum", accum}, {"transmittance", mode}});
+      forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+        if (f.empty()) return requireClose(wavg.finalFloat, x, y, c0, 0.0, "wavg, no layer");
+        glm::dvec3 sum(0.0);
+        double alpha = 0;
+        for (const auto& fr : f) sum += glm::dvec3(glm::vec3(fr.color) * fr.color.a), alpha += fr.color.a;
+        const double n = double(f.size()), mean = alpha / n;
+        const double t = std::string(mode) == "thesis_eq2.2" ? std::pow(mean, n) : std::pow(std::max(0.0, 1.0 - mean), n);
+        const glm::dvec3 want = sum / std::max(alpha, 1e-4) * (1.0 - t) + c0 * t;
+        // The average divides two rounded sums, and T raises a rounded mean to the n-th power.
+        const double bound = 4 * (n + 2) * u * (1 + alpha) / std::max(alpha, 1e-4) + 4 * n * (n + 2) * u;
+        requireClose(wavg.finalFloat, x, y, want, bound, mode);
+      });
+    }
+  }
+}
+
+TEST_CASE("methods: WBOIT is eq. 2.5 with its weight function", "[methods]") {
+  struct Variant {
+    const char* weight;
+    double (*w)(double alpha, double windowZ, double viewZ);
+  };
+  const Variant variants[] = {
+      {"one", [](double, double, double) { return 1.0; }},
+      {"az5", [](double a, double z, double) { return a / std::pow(z, 5); }},
+      {"z3", [](double, double z, double) { return 1.0 / std::pow(z, 3); }},
+      {"mb7", [](double a, double, double v) {
+         return a * std::clamp(10.0 / (1e-5 + std::pow(v / 5, 2) + std::pow(v / 200, 6)), 1e-2, 3e3);
+       }},
+      {"mb10", [](double a, double d, double) { return a * std::max(1e-2, 3e3 * std::pow(1 - d, 3)); }},
+  };
+  for (const Variant& v : variants) {
+    const FrameResult wboit = render(reference().scene, "wboit", {{"weight", v.weight}});
+    forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+      glm::dvec3 sum(0.0);
+      double weights = 0, reveal = 1;
+      for (const auto& fr : f) {
+        const double w = v.w(fr.color.a, fr.windowDepth, fr.viewDepth);
+        sum += glm::dvec3(glm::vec3(fr.color)) * double(fr.color.a) * w;
+        weights += fr.color.a * w;
+        reveal *= 1.0 - fr.color.a;
+      }
+      const glm::dvec3 want = f.empty() ? c0 : sum / std::clamp(weights, 1e-4, 5e4) * (1 - reveal) + c0 * reveal;
+      // fp32 sums and product, plus the weight's own few roundings (powers as products).
+      const double bound = 16 * (f.size() + 4) * kU32;
+      requireClose(wboit.finalFloat, x, y, want, bound, v.weight);
+    });
+  }
+}
+
+TEST_CASE("methods: order-independent methods ignore the submission order; OVER does not", "[methods]") {
+  Scene shuffled = reference().scene;
+  std::reverse(shuffled.objects.begin() + 1, shuffled.objects.end());
+  for (const char* m : {"wsum", "wavg", "wboit", "abuffer"}) {
+    const std::map<std::string, std::string> options =
+        std::string(m) == "abuffer" || std::string(m) == "wboit" ? std::map<std::string, std::string>{}
+                                                                  : std::map<std::string, std::string>{{"accum", "rgba32f"}};
+    const FrameResult a = render(reference().scene, m, options), b = render(shuffled, m, options);
+    double worst = 0;
+    for (int y = 0; y < a.finalFloat.height(); ++y)
+      for (int x = 0; x < a.finalFloat.width(); ++x)
+        for (int k = 0; k < 3; ++k)
+          worst = std::max(worst, double(std::abs(a.finalFloat.fetch(x, y)[k] - b.finalFloat.fetch(x, y)[k])));
+    INFO(m << " worst difference " << worst);
+    CHECK(worst <= 1e-5);  // summation order only: a few fp32 roundings
+  }
+  const FrameResult a = render(reference().scene, "over"), b = render(shuffled, "over");
+  CHECK_FALSE(a.finalFloat.sameBits(b.finalFloat));
+}
+
+TEST_CASE("methods: the same bits for 1 and 3 threads", "[methods]") {
+  for (const char* m : {"over", "wsum", "wavg", "wboit", "abuffer"}) {
+    INFO(m);
+    CHECK(render(reference().scene, m, {}, 1).finalFloat.sameBits(render(reference().scene, m, {}, 3).finalFloat));
+  }
+}
