@@ -17,8 +17,10 @@ struct Entry {
 const std::vector<Entry>& registry() {
   static const std::vector<Entry> entries = {
       {methods::opaqueInfo, methods::makeOpaque}, {methods::overInfo, methods::makeOver},
+      {methods::sortedInfo, methods::makeSorted},
       {methods::wsumInfo, methods::makeWsum},     {methods::wavgInfo, methods::makeWavg},
-      {methods::wboitInfo, methods::makeWboit},   {methods::abufferInfo, methods::makeAbuffer},
+      {methods::wboitInfo, methods::makeWboit},   {methods::peelInfo, methods::makePeel},
+      {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},
   };
   return entries;
 }

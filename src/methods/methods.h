@@ -12,12 +12,18 @@ const MethodInfo& opaqueInfo();
 std::unique_ptr<Method> makeOpaque(const MethodOptions& options);
 const MethodInfo& overInfo();
 std::unique_ptr<Method> makeOver(const MethodOptions& options);
+const MethodInfo& sortedInfo();
+std::unique_ptr<Method> makeSorted(const MethodOptions& options);
 const MethodInfo& wsumInfo();
 std::unique_ptr<Method> makeWsum(const MethodOptions& options);
 const MethodInfo& wavgInfo();
 std::unique_ptr<Method> makeWavg(const MethodOptions& options);
 const MethodInfo& wboitInfo();
 std::unique_ptr<Method> makeWboit(const MethodOptions& options);
+const MethodInfo& peelInfo();
+std::unique_ptr<Method> makePeel(const MethodOptions& options);
+const MethodInfo& raycastInfo();
+std::unique_ptr<Method> makeRaycast(const MethodOptions& options);
 const MethodInfo& abufferInfo();
 std::unique_ptr<Method> makeAbuffer(const MethodOptions& options);
 

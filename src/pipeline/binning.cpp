@@ -31,11 +31,10 @@ void setupChunk(const Geometry& geometry, const SetupContext& context, const Til
   const size_t begin = chunk * kSetupChunk;
   const size_t end = std::min(begin + kSetupChunk, geometry.triangleCount());
   out.triangles.clear();
-  out.clipBarycentrics.clear();
   out.counters = {};
   out.triangles.reserve(end - begin);
   for (size_t t = begin; t < end; ++t)
-    setupPrimitive(geometry, t, context, out.triangles, out.clipBarycentrics, out.counters);
+    setupPrimitive(geometry, t, context, out.triangles, out.counters);
   out.tileCounts.assign(size_t(grid.count()), 0);
   for (const SetupTriangle& tri : out.triangles) {
     const TileRange r = tilesTouched(tri.bounds, grid);

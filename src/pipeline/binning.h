@@ -30,7 +30,6 @@ struct TileGrid {
 
 struct SetupChunk {
   std::vector<SetupTriangle> triangles;
-  std::vector<ClipBarycentrics> clipBarycentrics;
   std::vector<uint32_t> tileCounts;
   SetupCounters counters;
 };
@@ -43,7 +42,6 @@ struct BinnedTriangles {
   std::vector<uint32_t> cursor;         // scratch for the scatter
   SetupCounters counters;
 
-  const SetupChunk& chunkOf(uint32_t id) const { return chunks[id >> 16]; }
   const SetupTriangle& triangle(uint32_t id) const { return chunks[id >> 16].triangles[id & 0xffff]; }
 };
 

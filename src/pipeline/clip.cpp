@@ -21,7 +21,7 @@ double planeDistance(int plane, const glm::dvec4& v) {
 
 ClipVertex intersect(const ClipVertex& in, double dIn, const ClipVertex& out, double dOut) {
   const double t = dIn / (dIn - dOut);
-  return {in.position + t * (out.position - in.position), in.bary + t * (out.bary - in.bary)};
+  return {in.position + t * (out.position - in.position)};
 }
 
 }  // namespace

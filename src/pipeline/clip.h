@@ -8,11 +8,10 @@
 //   w ≥ kMinW, so the perspective divide never meets w ≤ 0.
 // Sutherland–Hodgman in double. An intersection is always computed from the inside vertex
 // towards the outside one, so two triangles sharing an edge produce bit-identical new vertices
-// (watertightness). New vertices carry their barycentric coordinates with respect to the
-// original triangle, so attributes are interpolated once, from the original vertices.
+// (watertightness). Clipping decides coverage only: attributes and depth are interpolated from
+// the original triangle (fragment_ops.h), so they do not depend on where it was clipped.
 #pragma once
 
-#include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 namespace oitref::detail {
@@ -23,7 +22,6 @@ inline constexpr int kMaxClipVertices = 16;  // 3 + one per plane (7), with room
 
 struct ClipVertex {
   glm::dvec4 position;  // clip space
-  glm::dvec3 bary;      // barycentric coordinates in the original triangle
 };
 
 // Clips the triangle; writes the polygon (0 or ≥ 3 vertices, in order) and returns its size.

@@ -4,7 +4,7 @@
 namespace oitref::detail {
 
 FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program,
-                             const Geometry* geometry)
+                             const Geometry* geometry, const PixelRect& viewport)
     : fb_(fb), state_(state), program_(program), geometry_(geometry) {
   earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
   blenders_.reserve(kMaxColorTargets);
@@ -16,25 +16,38 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
   const int n = geometry ? geometry->attributeCount : 0;
   vertexAttributes_.assign(size_t(3 * n), 0.0);
   attributes_.assign(size_t(n), 0.0f);
+  // x_n = (x + ½ − vx)·(2/vw) − 1
+  const double vw = viewport.x1 - viewport.x0, vh = viewport.y1 - viewport.y0;
+  ndcScaleX_ = 2.0 / vw, ndcOffsetX_ = (0.5 - viewport.x0) * (2.0 / vw) - 1.0;
+  ndcScaleY_ = 2.0 / vh, ndcOffsetY_ = (0.5 - viewport.y0) * (2.0 / vh) - 1.0;
 }
 
-void FragmentStage::beginTriangle(const SetupTriangle& t, const std::vector<ClipBarycentrics>& clipBarycentrics) {
+void FragmentStage::beginTriangle(const SetupTriangle& t) {
   triangle_ = &t;
-  const int n = geometry_->attributeCount;
-  if (n == 0) return;
-  if (t.clipSlot < 0) {
-    for (int i = 0; i < 3; ++i) {
-      const float* a = geometry_->vertexAttributes(t.vertexIndex[i]);
-      for (int k = 0; k < n; ++k) vertexAttributes_[size_t(i * n + k)] = a[k];
-    }
-    return;
+  glm::dvec4 v[3];
+  for (int i = 0; i < 3; ++i) v[i] = glm::dvec4(geometry_->clipPositions[t.vertexIndex[i]]);
+  // M has columns (x_i, y_i, w_i); M⁻¹ = adj(M) / det(M).
+  const double m[3][3] = {{v[0].x, v[1].x, v[2].x}, {v[0].y, v[1].y, v[2].y}, {v[0].w, v[1].w, v[2].w}};
+  const double c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1], c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2],
+               c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+  const double det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
+  degenerate_ = det == 0.0;
+  if (!degenerate_) {
+    const double r = 1.0 / det;
+    inverse_[0][0] = c00 * r, inverse_[1][0] = c01 * r, inverse_[2][0] = c02 * r;
+    inverse_[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * r;
+    inverse_[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * r;
+    inverse_[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * r;
+    inverse_[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * r;
+    inverse_[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * r;
+    inverse_[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * r;
   }
-  const ClipBarycentrics& cb = clipBarycentrics[size_t(t.clipSlot)];
-  const float* src[3] = {geometry_->vertexAttributes(t.vertexIndex[0]), geometry_->vertexAttributes(t.vertexIndex[1]),
-                         geometry_->vertexAttributes(t.vertexIndex[2])};
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < n; ++k)
-      vertexAttributes_[size_t(i * n + k)] = cb.b[i][0] * src[0][k] + cb.b[i][1] * src[1][k] + cb.b[i][2] * src[2][k];
+  for (int i = 0; i < 3; ++i) clipZ_[i] = v[i].z;
+  const int n = geometry_->attributeCount;
+  for (int i = 0; i < 3; ++i) {
+    const float* a = geometry_->vertexAttributes(t.vertexIndex[i]);
+    for (int k = 0; k < n; ++k) vertexAttributes_[size_t(i * n + k)] = a[k];
+  }
 }
 
 void FragmentStage::interpolateAttributes(const double* b) {
@@ -43,13 +56,16 @@ void FragmentStage::interpolateAttributes(const double* b) {
   for (int k = 0; k < n; ++k) attributes_[size_t(k)] = float(b[0] * va[k] + b[1] * va[n + k] + b[2] * va[2 * n + k]);
 }
 
-void FragmentStage::fragment(int x, int y, const int64_t e[3]) {
+void FragmentStage::fragment(int x, int y) {
+  if (degenerate_) return;
   const SetupTriangle& t = *triangle_;
-  const double l0 = double(e[0]) * t.invArea2, l1 = double(e[1]) * t.invArea2, l2 = double(e[2]) * t.invArea2;
-  const double z = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
-  const double p0 = l0 * t.invW[0], p1 = l1 * t.invW[1], p2 = l2 * t.invW[2];
-  const double w = 1.0 / (p0 + p1 + p2);
-  const double b[3] = {p0 * w, p1 * w, p2 * w};
+  const double xn = double(x) * ndcScaleX_ + ndcOffsetX_, yn = double(y) * ndcScaleY_ + ndcOffsetY_;
+  double k[3];
+  for (int i = 0; i < 3; ++i) k[i] = inverse_[i][0] * xn + inverse_[i][1] * yn + inverse_[i][2];
+  const double w = 1.0 / (k[0] + k[1] + k[2]);  // P.w, the view depth
+  const double b[3] = {k[0] * w, k[1] * w, k[2] * w};
+  const double clipZ = b[0] * clipZ_[0] + b[1] * clipZ_[1] + b[2] * clipZ_[2];
+  const double z = 0.5 * (clipZ / w) + 0.5;
   const int n = int(attributes_.size());
 
   FragmentInput in;

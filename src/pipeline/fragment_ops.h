@@ -2,12 +2,15 @@
 // attribute interpolation → (early) depth test → fragment shader → (late) depth test →
 // depth write → blending and colour write for each output the shader wrote.
 //
-// Interpolation (GL 4.6 §14.6.1 eq. 14.9, 14.10), all in double at the pixel centre:
-//   λ_i = E_i / area2                    window-space barycentrics (exact integers E_i)
-//   z   = Σ λ_i z_i                      depth: linear in window space
-//   b_i = (λ_i / w_i) / Σ_j (λ_j / w_j)  perspective-correct barycentrics
-//   a   = Σ b_i a_i                      each attribute, then rounded once to fp32
-// For a clipped triangle a_i are themselves Σ_k β_ik · a(original vertex k), evaluated in double.
+// Interpolation (GL 4.6 §14.6.1 eq. 14.9, 14.10) is exact for the original triangle, in double,
+// at the pixel centre: snapping and clipping decide coverage only. With M the 3×3 matrix whose
+// columns are the original vertices' clip (x, y, w) and (x_n, y_n) the pixel centre in NDC,
+//   k = M⁻¹ · (x_n, y_n, 1),  b = k / Σk        perspective-correct barycentrics
+//   P = Σ b_i V_i                                the surface point in clip space
+//   view depth = P.w,  window z = ½·P.z/P.w + ½  (linear in window space, eq. 14.10)
+//   a = Σ b_i a_i                                each attribute, then rounded once to fp32
+// (homogeneous rasterization, Olano & Greer 1997). A triangle whose plane contains the eye
+// (det M = 0) is seen edge-on and produces no fragments.
 #pragma once
 
 #include <cstdint>
@@ -25,13 +28,14 @@ struct FragmentCounters {
 
 class FragmentStage {
  public:
-  FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry);
+  // `viewport` maps pixel centres to NDC: x_n = 2(x + ½ − vx)/vw − 1, likewise y.
+  FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry,
+                const PixelRect& viewport);
 
-  // Prepares the triangle's per-vertex attributes (double) before its fragments arrive;
-  // `clipBarycentrics` is the array its clipSlot refers to.
-  void beginTriangle(const SetupTriangle& triangle, const std::vector<ClipBarycentrics>& clipBarycentrics);
-  // A covered pixel centre with its (unbiased) edge-function values.
-  void fragment(int x, int y, const int64_t e[3]);
+  // Prepares the original triangle's M⁻¹, clip z and attributes before its fragments arrive.
+  void beginTriangle(const SetupTriangle& triangle);
+  // A covered pixel centre of the current triangle.
+  void fragment(int x, int y);
   // A full-screen pass pixel: window depth 0, no attributes.
   void fullscreenPixel(int x, int y);
 
@@ -46,10 +50,14 @@ class FragmentStage {
   const FragmentProgram& program_;
   const Geometry* geometry_;
   const SetupTriangle* triangle_ = nullptr;
+  double inverse_[3][3] = {};  // M⁻¹ of the current triangle
+  double clipZ_[3] = {};
+  bool degenerate_ = false;
+  double ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_;
   bool earlyTests_;
   unsigned boundTargets_ = 0;
   std::vector<TargetBlender> blenders_;  // per bound target, in target order
-  std::vector<double> vertexAttributes_;  // 3 × attributeCount
+  std::vector<double> vertexAttributes_;  // 3 × attributeCount, of the original vertices
   std::vector<float> attributes_;         // interpolated, for the shader
   FragmentOutput output_;
   FragmentCounters counters_;

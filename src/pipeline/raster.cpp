@@ -27,10 +27,10 @@ void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, in
       for (int x = x0; x < x1; ++x) {
         if (((e[0] - bias[0]) | (e[1] - bias[1]) | (e[2] - bias[2])) >= 0) {
           if (!begun) {
-            stage.beginTriangle(t, bins.chunkOf(id).clipBarycentrics);
+            stage.beginTriangle(t);
             begun = true;
           }
-          stage.fragment(x, y, e);
+          stage.fragment(x, y);
         }
         e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2];
       }

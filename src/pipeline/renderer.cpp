@@ -62,6 +62,8 @@ detail::SetupContext makeContext(const Framebuffer& fb, const PipelineState& sta
   return c;
 }
 
+detail::PixelRect viewportRect(const detail::SetupContext& c) { return {c.vx, c.vy, c.vx + c.vw, c.vy + c.vh}; }
+
 }  // namespace
 
 DrawStats& DrawStats::operator+=(const DrawStats& o) {
@@ -151,7 +153,7 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   arena_->arena.execute([&] {
     parallelFor(size_t(grid.count()), [&](size_t tile) {
       if (bins.tileStart[tile] == bins.tileStart[tile + 1]) return;
-      detail::FragmentStage stage(fb, state, program, &geometry);
+      detail::FragmentStage stage(fb, state, program, &geometry, viewportRect(context));
       detail::rasterizeTile(bins, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, stage);
       perTile[tile] = stage.counters();
     });
@@ -170,7 +172,7 @@ DrawStats Renderer::drawFullscreen(Framebuffer& fb, const PipelineState& state, 
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->arena.execute([&] {
     parallelFor(size_t(grid.count()), [&](size_t tile) {
-      detail::FragmentStage stage(fb, state, program, nullptr);
+      detail::FragmentStage stage(fb, state, program, nullptr, viewportRect(context));
       const detail::PixelRect r = grid.tileRect(int(tile));
       for (int y = r.y0; y < r.y1; ++y)
         for (int x = r.x0; x < r.x1; ++x) stage.fullscreenPixel(x, y);

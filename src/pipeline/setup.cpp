@@ -9,8 +9,6 @@ namespace {
 
 struct WindowVertex {
   int64_t x, y;  // fixed point, S units per pixel
-  double z, invW;
-  glm::dvec3 bary;
 };
 
 int64_t floorDiv(int64_t a, int64_t b) {  // b > 0
@@ -21,16 +19,13 @@ int64_t floorDiv(int64_t a, int64_t b) {  // b > 0
 WindowVertex toWindow(const ClipVertex& v, const SetupContext& c) {
   const double scale = double(int64_t(1) << c.raster.subpixelBits);
   const glm::dvec4& p = v.position;
-  const double xNdc = p.x / p.w, yNdc = p.y / p.w, zNdc = p.z / p.w;
+  const double xNdc = p.x / p.w, yNdc = p.y / p.w;
   const double halfW = 0.5 * c.vw, halfH = 0.5 * c.vh;
   const double xw = xNdc * halfW + (c.vx + halfW);
   const double yw = yNdc * halfH + (c.vy + halfH);
   WindowVertex out;
   out.x = int64_t(std::nearbyint(xw * scale));  // ties to even (default FP environment)
   out.y = int64_t(std::nearbyint(yw * scale));
-  out.z = 0.5 * zNdc + 0.5;
-  out.invW = 1.0 / p.w;
-  out.bary = v.bary;
   return out;
 }
 
@@ -41,8 +36,8 @@ bool isInclusive(int64_t dx, int64_t dy, FillConvention fill) {
 }
 
 void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2, const uint32_t source[3],
-                  bool clipped, uint32_t primitiveId, const SetupContext& c, std::vector<SetupTriangle>& out,
-                  std::vector<ClipBarycentrics>& clipOut, SetupCounters& counters) {
+                  uint32_t primitiveId, const SetupContext& c, std::vector<SetupTriangle>& out,
+                  SetupCounters& counters) {
   int64_t area2 = (v1->x - v0->x) * (v2->y - v0->y) - (v2->x - v0->x) * (v1->y - v0->y);
   if (area2 == 0) return;
   const bool counterClockwise = area2 > 0;
@@ -63,16 +58,12 @@ void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVe
     t.edgeA[i] = -(b.y - a.y);
     t.edgeB[i] = b.x - a.x;
     t.edgeC[i] = -(t.edgeA[i] * a.x + t.edgeB[i] * a.y);
-    t.z[i] = v[i]->z;
-    t.invW[i] = v[i]->invW;
     minX = std::min(minX, v[i]->x), maxX = std::max(maxX, v[i]->x);
     minY = std::min(minY, v[i]->y), maxY = std::max(maxY, v[i]->y);
   }
   t.inclusiveEdges = 0;
   for (int i = 0; i < 3; ++i)
     if (isInclusive(t.edgeB[i], -t.edgeA[i], c.raster.fill)) t.inclusiveEdges |= uint8_t(1u << i);
-  t.area2 = area2;
-  t.invArea2 = 1.0 / double(area2);
 
   // Pixels whose centre x·S + S/2 lies in [minX, maxX], intersected with the viewport.
   const int64_t x0 = std::max<int64_t>(c.vx, -floorDiv(-(minX - S / 2), S));
@@ -84,18 +75,7 @@ void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVe
 
   t.primitiveId = primitiveId;
   t.frontFacing = front;
-  if (clipped) {
-    ClipBarycentrics cb;
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) cb.b[i][k] = v[i]->bary[k];
-    t.clipSlot = int32_t(clipOut.size());
-    clipOut.push_back(cb);
-    for (int k = 0; k < 3; ++k) t.vertexIndex[k] = source[k];
-  } else {
-    // Unclipped: setup vertex i is original corner argmax(bary).
-    t.clipSlot = -1;
-    for (int i = 0; i < 3; ++i) t.vertexIndex[i] = source[v[i]->bary[0] == 1.0 ? 0 : v[i]->bary[1] == 1.0 ? 1 : 2];
-  }
+  for (int k = 0; k < 3; ++k) t.vertexIndex[k] = source[k];
   out.push_back(t);
   ++counters.rasterized;
 }
@@ -103,8 +83,7 @@ void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVe
 }  // namespace
 
 void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& context,
-                    std::vector<SetupTriangle>& out, std::vector<ClipBarycentrics>& clipOut,
-                    SetupCounters& counters) {
+                    std::vector<SetupTriangle>& out, SetupCounters& counters) {
   ClipVertex in[3];
   uint32_t source[3];
   for (int k = 0; k < 3; ++k) {
@@ -115,17 +94,14 @@ void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& cont
       return;
     }
     in[k].position = glm::dvec4(p);
-    in[k].bary = glm::dvec3(k == 0, k == 1, k == 2);
   }
   ClipVertex polygon[kMaxClipVertices];
   const int n = clipTriangle(in, context.clipNearFar, polygon);
   if (n < 3) return;
-  const bool clipped = n != 3 || polygon[0].bary != in[0].bary || polygon[1].bary != in[1].bary ||
-                       polygon[2].bary != in[2].bary;
   WindowVertex w[kMaxClipVertices];
   for (int i = 0; i < n; ++i) w[i] = toWindow(polygon[i], context);
   for (int i = 1; i + 1 < n; ++i)
-    emitTriangle(&w[0], &w[i], &w[i + 1], source, clipped, uint32_t(t), context, out, clipOut, counters);
+    emitTriangle(&w[0], &w[i], &w[i + 1], source, uint32_t(t), context, out, counters);
 }
 
 }  // namespace oitref::detail

@@ -10,7 +10,7 @@
 //    A_i = −(y_b − y_a), B_i = x_b − x_a, C_i = −(A_i·x_a + B_i·y_a); all int64 (|E| < 2^62).
 //    P is a pixel centre in the same units: (x·S + S/2, y·S + S/2).
 //  * Triangles are reoriented counter-clockwise (in GL's y-up window space) so that E_i > 0
-//    inside; E_i(P) / area2 is then the window-space barycentric coordinate of vertex i.
+//    inside.
 //  * A sample with E_i = 0 belongs to the triangle only if edge i is "top/left" under the fill
 //    convention (pipeline_state.h); otherwise the test is E_i > 0.
 //  * Facing: the sign of the snapped window-space area (GL §14.6.1 eq. 14.8); counter-clockwise
@@ -30,23 +30,15 @@ struct PixelRect {
   int x0, y0, x1, y1;  // inclusive-exclusive: [x0, x1) × [y0, y1)
 };
 
+// What rasterization needs of one (possibly clipped) triangle. Interpolation goes back to the
+// original triangle through vertexIndex.
 struct SetupTriangle {
   int64_t edgeA[3], edgeB[3], edgeC[3];
-  int64_t area2;       // E_i at vertex i, > 0
-  double invArea2;     // 1 / area2, so λ_i = E_i · invArea2
-  double z[3];         // window z per vertex
-  double invW[3];      // 1 / clip w per vertex
-  PixelRect bounds;    // covered pixel range, clipped to the viewport
+  PixelRect bounds;         // covered pixel range, clipped to the viewport
   uint32_t primitiveId;
-  uint32_t vertexIndex[3];  // source vertices of the original triangle, in original order
-  int32_t clipSlot;         // -1: not clipped; else index of its ClipBarycentrics
+  uint32_t vertexIndex[3];  // vertices of the original triangle, in submission order
   uint8_t inclusiveEdges;   // bit i: samples exactly on edge i are inside
   bool frontFacing;
-};
-
-// Barycentrics (w.r.t. the original triangle) of a clipped triangle's three vertices.
-struct ClipBarycentrics {
-  double b[3][3];
 };
 
 struct SetupContext {
@@ -62,7 +54,6 @@ struct SetupCounters {
 
 // Assembles, clips and sets up triangle `t` of `geometry`, appending 0 or more SetupTriangles.
 void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& context,
-                    std::vector<SetupTriangle>& out, std::vector<ClipBarycentrics>& clipOut,
-                    SetupCounters& counters);
+                    std::vector<SetupTriangle>& out, SetupCounters& counters);
 
 }  // namespace oitref::detail

@@ -1,0 +1,176 @@
+// Ground truth by ray casting with Embree 3, independent of the rasterizer: one ray per pixel
+// centre through the same camera; an intersection filter records every hit along the ray and
+// rejects it so traversal goes on; hits outside the view depth range [near, far] are dropped;
+// the nearest opaque hit ends the list; transparent hits in front of it are sorted by view
+// depth (ties by object, then primitive) and composited back to front with OVER in double.
+// Attributes come from Embree's barycentrics, colours from the same shading function as the
+// rasterizer (oitref/scene_geometry.h). Rays are traced in parallel with oneTBB.
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "methods/method_common.h"
+#include "methods/methods.h"
+#include "oitref/fp_environment.h"
+
+namespace oitref::methods {
+namespace {
+
+struct Hit {
+  unsigned part, primitive;
+  float u, v;
+  double viewDepth;
+};
+
+struct HitCollector {
+  RTCIntersectContext context;  // first: Embree passes a pointer to it to the filter
+  std::vector<Hit>* hits;
+};
+
+void collectHit(const RTCFilterFunctionNArguments* args) {
+  auto* collector = reinterpret_cast<HitCollector*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    collector->hits->push_back({RTCHitN_geomID(args->hit, args->N, i), RTCHitN_primID(args->hit, args->N, i),
+                                RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i),
+                                double(RTCRayN_tfar(args->ray, args->N, i))});
+    args->valid[i] = 0;  // reject, so the ray goes on to the next hit
+  }
+}
+
+class EmbreeScene {
+ public:
+  explicit EmbreeScene(const SceneGeometry& geometry) {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("raycast: Embree device creation failed (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    scene_ = rtcNewScene(device_);
+    for (size_t p = 0; p < geometry.parts.size(); ++p) {
+      const ScenePart& part = geometry.parts[p];
+      RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                   3 * sizeof(float), std::max<size_t>(1, part.positions.size())));
+      for (size_t v = 0; v < part.positions.size(); ++v)
+        for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = part.positions[v][k];
+      auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                     3 * sizeof(unsigned), part.triangleCount()));
+      std::copy(part.indices.begin(), part.indices.end(), indices);
+      rtcSetGeometryIntersectFilterFunction(g, collectHit);
+      rtcCommitGeometry(g);
+      rtcAttachGeometryByID(scene_, g, unsigned(p));
+      rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(scene_);
+  }
+  ~EmbreeScene() {
+    rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+  }
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  // Every hit along the ray, t in units of the (unnormalised) direction.
+  void allHits(glm::vec3 origin, glm::vec3 direction, std::vector<Hit>& hits) const {
+    hits.clear();
+    HitCollector collector;
+    rtcInitIntersectContext(&collector.context);
+    collector.hits = &hits;
+    RTCRayHit rh{};
+    rh.ray.org_x = origin.x, rh.ray.org_y = origin.y, rh.ray.org_z = origin.z;
+    rh.ray.dir_x = direction.x, rh.ray.dir_y = direction.y, rh.ray.dir_z = direction.z;
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.mask = ~0u;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &collector.context, &rh);
+    // A primitive may be reported more than once (spatial splits): keep one.
+    std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
+      return std::tie(a.part, a.primitive) < std::tie(b.part, b.primitive);
+    });
+    hits.erase(std::unique(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
+                 return a.part == b.part && a.primitive == b.primitive;
+               }), hits.end());
+  }
+
+ private:
+  RTCDevice device_;
+  RTCScene scene_;
+};
+
+glm::vec4 shadeHit(const FrameContext& c, const Hit& h) {
+  const ScenePart& part = c.geometry.parts[h.part];
+  float attributes[kSceneAttributeCount];
+  const double w[3] = {1.0 - double(h.u) - double(h.v), double(h.u), double(h.v)};
+  for (int k = 0; k < kSceneAttributeCount; ++k) {
+    double a = 0;
+    for (int i = 0; i < 3; ++i) a += w[i] * double(part.attributes[part.indices[3 * h.primitive + size_t(i)] * kSceneAttributeCount + size_t(k)]);
+    attributes[k] = float(a);
+  }
+  return shadeSurface(c.scene.objects[part.objectIndex], attributes);
+}
+
+class Raycast final : public Method {
+ public:
+  const MethodInfo& info() const override { return raycastInfo(); }
+  std::vector<AttachmentDecl> attachments() const override { return {}; }
+  FrameResult render(const FrameContext& c) override {
+    FrameResult result;
+    const auto t0 = std::chrono::steady_clock::now();
+    const EmbreeScene scene(c.geometry);
+    result.passes.push_back({"build BVH", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), {}});
+
+    const auto t1 = std::chrono::steady_clock::now();
+    const Camera& cam = c.scene.camera;
+    const glm::dmat4 view(cam.view());
+    const glm::dmat4 inverse = glm::inverse(glm::dmat4(cam.projection(float(c.width) / float(c.height))) * view);
+    const glm::dvec3 forward = glm::normalize(glm::dvec3(cam.target - cam.position));
+    Image result8(makeFormat(FormatId::RGBA8), c.width, c.height), resultFloat(makeFormat(FormatId::RGBA32F), c.width, c.height);
+    tbb::parallel_for(0, c.height, [&](int y) {
+      const DefaultFloatingPoint fp;
+      std::vector<Hit> hits;
+      for (int x = 0; x < c.width; ++x) {
+        const glm::dvec2 ndc(2.0 * (x + 0.5) / c.width - 1.0, 2.0 * (y + 0.5) / c.height - 1.0);
+        const glm::dvec4 a = inverse * glm::dvec4(ndc, -1.0, 1.0), b = inverse * glm::dvec4(ndc, 1.0, 1.0);
+        const glm::dvec3 origin = glm::dvec3(cam.position), direction = glm::dvec3(b) / b.w - glm::dvec3(a) / a.w;
+        scene.allHits(glm::vec3(origin), glm::vec3(direction), hits);
+        for (Hit& h : hits) h.viewDepth = double(h.viewDepth) * glm::dot(glm::dvec3(glm::vec3(direction)), forward);
+        std::erase_if(hits, [&](const Hit& h) { return h.viewDepth < cam.nearPlane || h.viewDepth > cam.farPlane; });
+        std::sort(hits.begin(), hits.end(), [](const Hit& p, const Hit& q) {
+          return std::tie(p.viewDepth, p.part, p.primitive) < std::tie(q.viewDepth, q.part, q.primitive);
+        });
+        glm::dvec3 color(c.scene.background);
+        size_t end = hits.size();
+        for (size_t i = 0; i < hits.size(); ++i)
+          if (!c.geometry.parts[hits[i].part].transparent) {
+            color = glm::dvec3(glm::vec3(shadeHit(c, hits[i])));
+            end = i;
+            break;
+          }
+        for (size_t i = end; i-- > 0;) {
+          const glm::vec4 s = shadeHit(c, hits[i]);
+          color = glm::dvec3(glm::vec3(s)) * double(s.a) + color * (1.0 - double(s.a));
+        }
+        const glm::vec4 out(glm::vec3(color), 1.0f);
+        resultFloat.store(x, y, out, c.profile);
+        result8.store(x, y, out, c.profile);
+      }
+    });
+    result.passes.push_back({"trace", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count(), {}});
+    result.final8 = std::move(result8);
+    result.finalFloat = std::move(resultFloat);
+    return result;
+  }
+};
+
+}  // namespace
+
+const MethodInfo& raycastInfo() {
+  static const MethodInfo info{"raycast", "Embree 3 ray casting: every hit per pixel centre, sorted, OVER in double", {}};
+  return info;
+}
+std::unique_ptr<Method> makeRaycast(const MethodOptions&) { return std::make_unique<Raycast>(); }
+
+}  // namespace oitref::methods

@@ -1,0 +1,111 @@
+// Front-to-back depth peeling (Everitt 2001), Rožek's thesis Algorithm 1. Each pass renders the
+// transparent geometry as if solid into C2/D2 (D2 starts as the opaque depth), discarding what
+// is not strictly behind the previous layer D3 — so each pass keeps the nearest layer not yet
+// peeled (coplanar fragments are lost, as in the original). The layer, written as (c·α, α), is
+// blended under the accumulator C3:
+//   RGB:   C3 = C2·α_d + C3        (src DST_ALPHA, dst ONE)
+//   alpha: C3 = C3·(1 − α_s)       (src ZERO, dst ONE_MINUS_SRC_ALPHA)
+// and finally C3 is blended onto the background: C1 = C3.rgb + C1·C3.a (src ONE, dst SRC_ALPHA).
+// Depths are compared in the depth buffer's own representation (d24). The method runs `passes`
+// iterations as a GPU loop would and reports how many actually peeled something.
+#include "methods/method_common.h"
+#include "methods/methods.h"
+
+namespace oitref::methods {
+namespace {
+
+class Peel final : public Method {
+ public:
+  explicit Peel(const MethodOptions& o) : passes_(int(o.number("passes"))), layerFormat_(o.text("layer")) {}
+  const MethodInfo& info() const override { return peelInfo(); }
+  std::vector<AttachmentDecl> attachments() const override {
+    std::vector<AttachmentDecl> a = opaqueAttachments();
+    a.push_back(colorAttachment("layer", layerFormat_, "C2: the layer peeled this pass, (c·α, α)"));
+    a.push_back(depthAttachment("layer_depth", "D2: depth of the layer peeled this pass"));
+    a.push_back(depthAttachment("peeled_depth", "D3: depth of the previous layer"));
+    a.push_back(colorAttachment("accum", layerFormat_, "C3: layers so far, front to back; alpha = transmittance"));
+    return a;
+  }
+  FrameResult render(const FrameContext& context) override {
+    FrameResult result;
+    FrameTargets t(attachments(), context.width, context.height);
+    PassRunner run(context, result);
+    Image& layer = t.color("layer");
+    Image& accum = t.color("accum");
+    DepthBuffer& layerDepth = t.depth("layer_depth");
+    DepthBuffer& peeledDepth = t.depth("peeled_depth");
+    accum.clear({0, 0, 0, 1}, context.profile);                    // step 1
+    peeledDepth.clear(0.0);
+    run.opaquePass(t);                                              // steps 2–3
+    Framebuffer layerFb;
+    layerFb.color[0] = &layer;
+    layerFb.depth = &layerDepth;
+    PipelineState solid;
+    solid.profile = context.profile;
+    solid.depth = {true, CompareFunc::Less, true, false};
+    Framebuffer accumFb;
+    accumFb.color[0] = &accum;
+    PipelineState under;
+    under.profile = context.profile;
+    under.blend[0] = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::DstAlpha, BlendFactor::One,
+                                          BlendFactor::Zero, BlendFactor::OneMinusSrcAlpha);  // steps 8–10
+    int peeledPasses = 0;
+    bool exhausted = false;
+    for (int pass = 0; pass < passes_; ++pass) {                    // step 4
+      layerDepth = t.depth("depth");                                // step 5: D2 ← D1
+      layer.clear(glm::vec4(0.0f), context.profile);                // step 6
+      const DepthFormat format = peeledDepth.format();
+      run.transparentPass("peel " + std::to_string(pass + 1), layerFb, solid,  // step 7
+                          [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+                            if (encodeDepth(in.depth, format) <= peeledDepth.load(in.x, in.y)) return out.discard();
+                            out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));
+                          },
+                          /*mayDiscard=*/true);
+      const uint64_t peeled = result.passes.back().stats.fragmentsWritten;
+      if (peeled == 0) exhausted = true;
+      else ++peeledPasses;
+      run.fullscreenPass("under " + std::to_string(pass + 1), accumFb, under,  // step 11
+                         [&](const FragmentInput& in, FragmentOutput& out) { out.write(0, layer.fetch(in.x, in.y)); });
+      peeledDepth = layerDepth;                                     // step 13: D3 ← D2
+    }
+    // Step 15: C1 = C3.rgb + C1·C3.a.
+    Framebuffer out;
+    out.color[0] = &t.color("opaque");
+    out.color[1] = &t.analysis();
+    PipelineState merge;
+    merge.profile = context.profile;
+    merge.blend[0] = merge.blend[1] = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One,
+                                                           BlendFactor::SrcAlpha, BlendFactor::Zero, BlendFactor::One);
+    run.fullscreenPass("merge", out, merge, [&](const FragmentInput& in, FragmentOutput& o) {
+      const glm::vec4 c = accum.fetch(in.x, in.y);
+      o.write(0, c);
+      o.write(1, c);
+    });
+    result.facts.emplace_back("passes that peeled a layer", std::to_string(peeledPasses));
+    result.facts.emplace_back("all layers peeled", exhausted ? "yes" : "no: raise passes");
+    t.finish(result, "opaque");
+    return result;
+  }
+
+ private:
+  int passes_;
+  std::string layerFormat_;
+};
+
+}  // namespace
+
+const MethodInfo& peelInfo() {
+  static const MethodInfo info{"peel",
+                               "front-to-back depth peeling (Everitt; thesis Algorithm 1)",
+                               {{"passes", "32", "peeling iterations (the thesis: 32)", {}},
+                                {"layer", "rgba8", "format of the peeled layer and the accumulator (thesis: RGBA8)",
+                                 {"rgba8", "rgba16f", "rgba32f"}}}};
+  return info;
+}
+std::unique_ptr<Method> makePeel(const MethodOptions& o) {
+  if (o.number("passes") < 1 || o.number("passes") > 1024)
+    throw std::invalid_argument("method 'peel' option 'passes': must be 1..1024");
+  return std::make_unique<Peel>(o);
+}
+
+}  // namespace oitref::methods
