@@ -10,5 +10,6 @@ void addBlendCommand(CLI::App& app, int& exitCode);
 void addDemoCommand(CLI::App& app, int& exitCode);
 void addRenderCommand(CLI::App& app, int& exitCode);
 void addMethodsCommand(CLI::App& app, int& exitCode);
+void addSuiteCommand(CLI::App& app, int& exitCode);
 
 }  // namespace oitref::tools

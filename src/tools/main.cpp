@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   oitref::tools::addDemoCommand(app, exitCode);
   oitref::tools::addRenderCommand(app, exitCode);
   oitref::tools::addMethodsCommand(app, exitCode);
+  oitref::tools::addSuiteCommand(app, exitCode);
   CLI11_PARSE(app, argc, argv);
   return exitCode;
 }

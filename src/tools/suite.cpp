@@ -1,0 +1,134 @@
+#include "tools/suite.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "tools/image_io.h"
+#include "util/sha256.h"
+
+namespace oitref::tools {
+namespace fs = std::filesystem;
+
+std::vector<std::string> sceneFiles(const std::string& folder) {
+  std::vector<std::string> out;
+  for (const auto& entry : fs::directory_iterator(folder))
+    if (entry.path().extension() == ".json") out.push_back(entry.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string sceneName(const std::string& path) { return fs::path(path).stem().string(); }
+
+SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const Profile& profile, int width, int height,
+                         const std::string& outDir) {
+  Scene scene = loadScene(scenePath);
+  if (width > 0) scene.width = width, scene.height = height;
+  const SceneGeometry geometry = buildSceneGeometry(scene);
+  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer};
+  SuiteScene result;
+  result.name = sceneName(scenePath);
+  result.width = scene.width, result.height = scene.height;
+  std::vector<MethodInfo> methods = allMethods();
+  std::stable_partition(methods.begin(), methods.end(), [](const MethodInfo& m) { return m.name == "abuffer"; });
+  Image truth;
+  for (const MethodInfo& info : methods) {
+    std::unique_ptr<Method> method = makeMethod(info.name);
+    const FrameResult frame = method->render(context);
+    if (info.name == "abuffer") {
+      truth = frame.finalFloat;
+      for (const auto& [k, v] : frame.facts)
+        if (k == "fragments") result.fragments = std::stoull(v);
+    }
+    SuiteRow row{info.name, frame.frameMs(), method->bytesPerPixel(), 0, 0, ""};
+    double sum = 0;
+    for (int y = 0; y < scene.height; ++y)
+      for (int x = 0; x < scene.width; ++x) {
+        const glm::vec4 a = frame.finalFloat.fetch(x, y), b = truth.fetch(x, y);
+        for (int k = 0; k < 3; ++k) {
+          const double d = std::abs(double(a[k]) - double(b[k]));
+          sum += d * d;
+          row.maxError = std::isnan(d) ? NAN : std::max(row.maxError, d);
+        }
+      }
+    row.rmse = std::sqrt(sum / (3.0 * scene.width * scene.height));
+    for (const auto& [k, v] : frame.facts)
+      if (k == "passes that peeled a layer" || k == "all layers peeled" || k == "depth complexity max")
+        row.note += (row.note.empty() ? "" : ", ") + k + ": " + v;
+    result.rows.push_back(row);
+    if (!outDir.empty()) {
+      const fs::path dir = fs::path(outDir) / result.name;
+      fs::create_directories(dir);
+      writeImage((dir / (info.name + ".png")).string(), frame.final8);
+      writeImage((dir / (info.name + ".exr")).string(), frame.finalFloat);
+    }
+  }
+  return result;
+}
+
+std::string formatSuiteTable(const SuiteScene& s) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof line, "%s  (%dx%d, %llu transparent fragments)\n", s.name.c_str(), s.width, s.height,
+                (unsigned long long)s.fragments);
+  out << line;
+  std::snprintf(line, sizeof line, "  %-8s %10s %8s %12s %12s  %s\n", "method", "ms", "B/pixel", "RMSE", "max error", "notes");
+  out << line;
+  for (const SuiteRow& r : s.rows) {
+    std::snprintf(line, sizeof line, "  %-8s %10.2f %8d %12.3e %12.3e  %s\n", r.method.c_str(), r.ms, r.bytesPerPixel, r.rmse,
+                  r.maxError, r.note.c_str());
+    out << line;
+  }
+  return out.str();
+}
+
+std::string frameHash(const FrameResult& frame) {
+  util::Sha256 sha;
+  sha.update(frame.final8.bytes().data(), frame.final8.bytes().size());
+  sha.update(frame.finalFloat.bytes().data(), frame.finalFloat.bytes().size());
+  return sha.hex();
+}
+
+std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Renderer& renderer, const std::string& dir,
+                                             bool write) {
+  std::vector<ReferenceEntry> entries;
+  for (const std::string& path : sceneFiles(scenesDir)) {
+    Scene scene = loadScene(path);
+    scene.width = kReferenceWidth, scene.height = kReferenceHeight;
+    const SceneGeometry geometry = buildSceneGeometry(scene);
+    const FrameContext context{scene, geometry, scene.width, scene.height, exactProfile(), renderer};
+    for (const MethodInfo& info : allMethods()) {
+      const FrameResult frame = makeMethod(info.name)->render(context);
+      entries.push_back({sceneName(path), info.name, frameHash(frame)});
+      if (write) writeImage((fs::path(dir) / (sceneName(path) + "_" + info.name + ".png")).string(), frame.final8);
+    }
+  }
+  if (write) {
+    std::ofstream manifest(fs::path(dir) / "manifest.txt");
+    manifest << "# scene method sha256(final RGBA8 bits, then RGBA32F bits), " << kReferenceWidth << "x" << kReferenceHeight
+             << ", profile exact. Regenerate with `oitref reference --write` only on purpose.\n";
+    for (const ReferenceEntry& e : entries) manifest << e.scene << " " << e.method << " " << e.hash << "\n";
+  }
+  return entries;
+}
+
+std::vector<ReferenceEntry> readManifest(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot read the reference manifest");
+  std::vector<ReferenceEntry> entries;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    ReferenceEntry e;
+    if (!(fields >> e.scene >> e.method >> e.hash)) throw std::runtime_error(path + ": bad line '" + line + "'");
+    entries.push_back(e);
+  }
+  return entries;
+}
+
+}  // namespace oitref::tools

@@ -1,0 +1,83 @@
+// `oitref suite` (every scene × method, with tables) and `oitref reference` (the golden set).
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "tools/commands.h"
+#include "tools/suite.h"
+
+namespace oitref::tools {
+namespace {
+
+struct SuiteOptions {
+  std::vector<std::string> scenes;
+  std::string out, size, profile = "exact", dir = "reference", scenesDir = "scenes";
+  int threads = 0;
+  bool write = false;
+};
+
+}  // namespace
+
+void addSuiteCommand(CLI::App& app, int& exitCode) {
+  auto o = std::make_shared<SuiteOptions>();
+  CLI::App* suite = app.add_subcommand("suite", "Render scenes with every method; print time, memory and error vs the A-buffer");
+  suite->add_option("scenes", o->scenes, "Scene files (default: every scenes/*.json)");
+  suite->add_option("--out", o->out, "Write every image into this folder");
+  suite->add_option("--size", o->size, "Override the scenes' resolution, WxH");
+  suite->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
+  suite->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
+  suite->callback([o, &exitCode] {
+    try {
+      std::vector<std::string> scenes = o->scenes.empty() ? sceneFiles("scenes") : o->scenes;
+      int w = 0, h = 0;
+      if (!o->size.empty()) {
+        char x = 0;
+        std::istringstream in(o->size);
+        if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1) throw std::invalid_argument("--size: expected WxH");
+      }
+      Renderer renderer(RendererOptions{o->threads, 64});
+      const Profile profile = parseProfile(o->profile);
+      std::printf("oitref suite: %zu scenes, threads %d, profile %s\n\n", scenes.size(), renderer.threads(), profile.name.c_str());
+      for (const std::string& path : scenes) {
+        std::fputs(formatSuiteTable(runSuiteScene(path, renderer, profile, w, h, o->out)).c_str(), stdout);
+        std::fputs("\n", stdout);
+        std::fflush(stdout);
+      }
+      if (!o->out.empty()) std::printf("images in %s/<scene>/<method>.png|.exr\n", o->out.c_str());
+      exitCode = 0;
+    } catch (const std::exception& e) {
+      std::cerr << "oitref suite: " << e.what() << "\n";
+      exitCode = 2;
+    }
+  });
+
+  CLI::App* ref = app.add_subcommand("reference", "Check (or, with --write, regenerate) the golden reference images");
+  ref->add_option("--dir", o->dir, "Reference folder")->capture_default_str();
+  ref->add_option("--scenes", o->scenesDir, "Scene folder")->capture_default_str();
+  ref->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
+  ref->add_flag("--write", o->write, "Regenerate the images and the manifest (only on purpose)");
+  ref->callback([o, &exitCode] {
+    try {
+      Renderer renderer(RendererOptions{o->threads, 64});
+      if (o->write) std::filesystem::create_directories(o->dir);
+      const auto manifest = o->write ? std::vector<ReferenceEntry>{} : readManifest(o->dir + "/manifest.txt");
+      const auto entries = renderReferences(o->scenesDir, renderer, o->dir, o->write);
+      int bad = 0;
+      for (size_t i = 0; i < manifest.size(); ++i) {
+        const bool ok = i < entries.size() && entries[i].scene == manifest[i].scene && entries[i].method == manifest[i].method &&
+                        entries[i].hash == manifest[i].hash;
+        if (!ok) std::printf("differs: %s %s\n", manifest[i].scene.c_str(), manifest[i].method.c_str()), ++bad;
+      }
+      if (!o->write && manifest.size() != entries.size()) std::printf("the manifest lists %zu images, the scenes make %zu\n", manifest.size(), entries.size()), ++bad;
+      std::printf("%s %zu reference images\n", o->write ? "wrote" : (bad ? "FAILED:" : "identical:"), entries.size());
+      exitCode = bad ? 1 : 0;
+    } catch (const std::exception& e) {
+      std::cerr << "oitref reference: " << e.what() << "\n";
+      exitCode = 2;
+    }
+  });
+}
+
+}  // namespace oitref::tools
