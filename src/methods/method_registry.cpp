@@ -19,7 +19,8 @@ const std::vector<Entry>& registry() {
       {methods::opaqueInfo, methods::makeOpaque}, {methods::overInfo, methods::makeOver},
       {methods::sortedInfo, methods::makeSorted},
       {methods::wsumInfo, methods::makeWsum},     {methods::wavgInfo, methods::makeWavg},
-      {methods::wboitInfo, methods::makeWboit},   {methods::peelInfo, methods::makePeel},
+      {methods::wboitInfo, methods::makeWboit},   {methods::mboitInfo, methods::makeMboit},
+      {methods::peelInfo, methods::makePeel},
       {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},
   };
   return entries;

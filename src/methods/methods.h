@@ -20,6 +20,10 @@ const MethodInfo& wavgInfo();
 std::unique_ptr<Method> makeWavg(const MethodOptions& options);
 const MethodInfo& wboitInfo();
 std::unique_ptr<Method> makeWboit(const MethodOptions& options);
+const MethodInfo& mboitInfo();
+std::unique_ptr<Method> makeMboit(const MethodOptions& options);
+// The 4-moment reconstruction (mboit.cpp), for the tests.
+float mboitAbsorbance(const float b[4], float z, float bias, float overestimation);
 const MethodInfo& peelInfo();
 std::unique_ptr<Method> makePeel(const MethodOptions& options);
 const MethodInfo& raycastInfo();

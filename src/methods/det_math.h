@@ -1,0 +1,41 @@
+// exp and log in plain double arithmetic (+, −, ×, ÷ only), so a method's shader math gives the
+// same bits on every machine: C libraries choose among exp/log implementations by CPU (e.g.
+// glibc's FMA variants), and GPUs use their own approximations anyway. Accurate to a few double
+// ulps (the test checks 4e-16 relative against libm), then rounded once to fp32 by the caller.
+#pragma once
+
+#include <cmath>
+#include <limits>
+
+namespace oitref::methods {
+
+// e^x: x = k·ln2 + r with |r| ≤ ln2/2, then a Taylor polynomial of r to degree 16.
+inline double detExp(double x) {
+  if (std::isnan(x)) return x;
+  if (x > 709.0) return std::numeric_limits<double>::infinity();
+  if (x < -745.0) return 0.0;
+  constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
+  const double k = std::nearbyint(x * 1.44269504088896338700);
+  const double r = (x - k * kLn2Hi) - k * kLn2Lo;
+  double p = 1.0;
+  for (int n = 16; n >= 1; --n) p = 1.0 + p * r / n;  // Horner form of Σ r^n / n!
+  return std::ldexp(p, int(k));
+}
+
+// ln x: x = m·2^e with m in [√½, √2), ln m = 2·atanh(s), s = (m − 1)/(m + 1), |s| ≤ 0.172,
+// series to s^33.
+inline double detLog(double x) {
+  if (std::isnan(x) || x < 0.0) return std::numeric_limits<double>::quiet_NaN();
+  if (x == 0.0) return -std::numeric_limits<double>::infinity();
+  if (std::isinf(x)) return x;
+  int e = 0;
+  double m = std::frexp(x, &e);  // m in [0.5, 1)
+  if (m < 0.70710678118654752440) m *= 2.0, --e;
+  const double s = (m - 1.0) / (m + 1.0), s2 = s * s;
+  double series = 0.0;
+  for (int n = 33; n >= 1; n -= 2) series = 1.0 / n + s2 * series;
+  constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
+  return (2.0 * s * series + e * kLn2Lo) + e * kLn2Hi;
+}
+
+}  // namespace oitref::methods
