@@ -1,6 +1,7 @@
 #include "tools/image_io.h"
 
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <vector>
 
@@ -16,6 +17,36 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
+std::filesystem::path tempBeside(const std::filesystem::path& final) {
+  return final.parent_path() / ("." + final.stem().string() + ".tmp" + std::to_string(::getpid()) + final.extension().string());
+}
+
+// Portable float map: "PF" (RGB) or "Pf" (grey), width and height, a negative scale for
+// little-endian data, then fp32 rows from the bottom up — the order oitref stores rows in.
+// One or two channels are written as grey (the first), three or four as RGB.
+void writePfm(const std::string& path, const Image& image) {
+  const int w = image.width(), h = image.height();
+  const bool grey = image.format().channels < 3;
+  const std::filesystem::path final(path), temp = tempBeside(final);
+  {
+    std::ofstream out(temp, std::ios::binary);
+    out << (grey ? "Pf" : "PF") << "\n" << w << " " << h << "\n-1.0\n";
+    std::vector<float> row(size_t(w) * (grey ? 1 : 3));
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        const glm::vec4 v = image.fetch(x, y);
+        for (int c = 0; c < (grey ? 1 : 3); ++c) row[size_t(x) * (grey ? 1 : 3) + size_t(c)] = v[c];
+      }
+      out.write(reinterpret_cast<const char*>(row.data()), std::streamsize(row.size() * sizeof(float)));
+    }
+    if (!out) {
+      std::filesystem::remove(temp);
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  std::filesystem::rename(temp, final);
+}
+
 }  // namespace
 
 void writeImage(const std::string& path, const Image& image) {
@@ -28,8 +59,15 @@ void writeImage(const std::string& path, const Image& image) {
                               : enc == ChannelEncoding::Half                  ? OIIO::TypeDesc::HALF
                                                                               : OIIO::TypeDesc::FLOAT;
   const std::string ext = lowerExtension(path);
-  if (type != OIIO::TypeDesc::UINT8 && ext != ".exr")
-    throw std::runtime_error(path + ": format " + f.name() + " holds values beyond 8 bits; write it as .exr");
+  const bool pfm = ext == ".pfm";
+  if (type != OIIO::TypeDesc::UINT8 && ext != ".exr" && !pfm)
+    throw std::runtime_error(path + ": format " + f.name() + " holds values beyond 8 bits; write it as .exr or .pfm");
+  if (pfm && (enc == ChannelEncoding::Half || f.isUnorm()))
+    throw std::runtime_error(path + ": PFM holds fp32 values; write " + f.name() + " as .exr or .png");
+  if (pfm) {
+    writePfm(path, image);
+    return;
+  }
 
   // Pixels in memory, bottom row first (GL window order); a negative y stride flips on output.
   std::vector<float> decoded;
@@ -49,8 +87,7 @@ void writeImage(const std::string& path, const Image& image) {
   const uint8_t* topRow = base + size_t(h - 1) * size_t(rowStride);
 
   const std::filesystem::path final(path);
-  const std::filesystem::path temp =
-      final.parent_path() / ("." + final.stem().string() + ".tmp" + std::to_string(::getpid()) + final.extension().string());
+  const std::filesystem::path temp = tempBeside(final);
   auto out = OIIO::ImageOutput::create(temp.string());
   if (!out) throw std::runtime_error(path + ": no image writer for '" + ext + "': " + OIIO::geterror());
   OIIO::ImageSpec spec(w, h, channels, type);

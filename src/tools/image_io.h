@@ -3,6 +3,7 @@
 //  * fp16 targets: EXR HALF channels holding the target's own bits.
 //  * fp32 targets: EXR FLOAT channels holding the target's own bits.
 //  * other formats (rgb10a2, r11g11b10f, minifloats): their exact decoded values as EXR FLOAT.
+//  * fp32 and decoded formats may also go to PFM (RGB or grey: an RGBA image loses its alpha).
 // Files are written to a temporary name beside the destination and renamed, so an interrupted run
 // never leaves a truncated image under the final name.
 #pragma once

@@ -1,0 +1,48 @@
+// Image files: PFM layout (written by hand) and EXR/PNG through OpenImageIO, read back.
+#include <catch2/catch.hpp>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "tools/image_io.h"
+
+using namespace oitref;
+
+TEST_CASE("image io: PFM is RGB fp32, bottom row first; EXR and PNG read back top row first", "[io]") {
+  const auto dir = std::filesystem::temp_directory_path() / "oitref-io-test";
+  std::filesystem::create_directories(dir);
+  Image img(makeFormat(FormatId::RGBA32F), 3, 2);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 3; ++x) img.store(x, y, {float(x), float(y), 0.5f, 1.0f}, exactProfile());
+  const std::string pfm = (dir / "a.pfm").string();
+  tools::writeImage(pfm, img);
+  std::ifstream in(pfm, std::ios::binary);
+  std::string magic, scale;
+  int w = 0, h = 0;
+  in >> magic >> w >> h >> scale;
+  in.get();
+  CHECK(magic == "PF");
+  CHECK(w == 3);
+  CHECK(h == 2);
+  CHECK(scale == "-1.0");  // little-endian
+  float data[18];
+  in.read(reinterpret_cast<char*>(data), sizeof data);
+  CHECK(data[3 * 1 + 0] == 1.0f);  // bottom row (y = 0), x = 1
+  CHECK(data[3 * 3 + 1] == 1.0f);  // second row from the bottom is y = 1
+  // EXR through OIIO: the first scanline of the file is the top row (y = 1).
+  const std::string exr = (dir / "a.exr").string();
+  tools::writeImage(exr, img);
+  auto reader = OIIO::ImageInput::open(exr);
+  REQUIRE(reader);
+  float pixels[24];
+  REQUIRE(reader->read_image(0, 0, 0, 4, OIIO::TypeDesc::FLOAT, pixels));
+  CHECK(pixels[1] == 1.0f);       // top-left: y = 1
+  CHECK(pixels[4 * 3 + 1] == 0.0f);  // bottom-left: y = 0
+  CHECK_THROWS_WITH(tools::writeImage((dir / "b.png").string(), img), Catch::Contains("write it as .exr"));
+  CHECK_THROWS_WITH(tools::writeImage((dir / "c.pfm").string(), Image(makeFormat(FormatId::RGBA16F), 2, 2)),
+                    Catch::Contains("PFM holds fp32"));
+}
