@@ -124,7 +124,7 @@ TEST_CASE("scene: the model matrix is T·Rz·Ry·Rx·S", "[scene]") {
   CHECK(v.z == Approx(28).margin(1e-5));
 }
 
-TEST_CASE("scene: meshes load through Assimp from OBJ, PLY (ascii, binary, colours) and glTF", "[scene]") {
+TEST_CASE("scene: meshes load through Assimp from OBJ, PLY (ascii, binary, colours), glTF and FBX", "[scene]") {
   const std::string obj = write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
   TriangleMesh m = loadMesh(obj);
   CHECK(m.positions.size() == 4);
@@ -171,6 +171,10 @@ TEST_CASE("scene: meshes load through Assimp from OBJ, PLY (ascii, binary, colou
   m = loadMesh(gltf);
   REQUIRE(m.positions.size() == 3);
   CHECK(m.positions[0].z == 5.0f);  // the node transform is applied
+  // FBX: a binary file from Assimp's own test models (tests/data/README.md).
+  m = loadMesh(OITREF_SOURCE_DIR "/tests/data/box.fbx");
+  CHECK(m.indices.size() == 36);  // a cube: 12 triangles
+  CHECK(m.positions.size() == 36);
   CHECK_THROWS_WITH(loadMesh(write("bad.obj", "this is not a mesh\n")), Catch::Contains("bad.obj"));
 }
 
