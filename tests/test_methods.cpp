@@ -215,10 +215,13 @@ TEST_CASE("methods: WBOIT is eq. 2.5 with its weight function", "[methods]") {
 TEST_CASE("methods: order-independent methods ignore the submission order; OVER does not", "[methods]") {
   Scene shuffled = reference().scene;
   std::reverse(shuffled.objects.begin() + 1, shuffled.objects.end());
-  for (const char* m : {"wsum", "wavg", "wboit", "abuffer"}) {
+  for (const char* m : {"wsum", "wavg", "wboit", "abuffer", "peel", "mboit"}) {
+    const std::string name = m;
     const std::map<std::string, std::string> options =
-        std::string(m) == "abuffer" || std::string(m) == "wboit" ? std::map<std::string, std::string>{}
-                                                                  : std::map<std::string, std::string>{{"accum", "rgba32f"}};
+        name == "wsum" || name == "wavg" ? std::map<std::string, std::string>{{"accum", "rgba32f"}}
+        : name == "peel"                 ? std::map<std::string, std::string>{{"layer", "rgba32f"}, {"passes", "12"}}
+        : name == "mboit"                ? std::map<std::string, std::string>{{"warp", "log"}}
+                                         : std::map<std::string, std::string>{};
     const FrameResult a = render(reference().scene, m, options), b = render(shuffled, m, options);
     double worst = 0;
     for (int y = 0; y < a.finalFloat.height(); ++y)
@@ -226,7 +229,10 @@ TEST_CASE("methods: order-independent methods ignore the submission order; OVER 
         for (int k = 0; k < 3; ++k)
           worst = std::max(worst, double(std::abs(a.finalFloat.fetch(x, y)[k] - b.finalFloat.fetch(x, y)[k])));
     INFO(m << " worst difference " << worst);
-    CHECK(worst <= 1e-5);  // summation order only: a few fp32 roundings
+    // Summation order only: a few fp32 roundings. MBOIT's moment sums round differently too,
+    // and its reconstruction amplifies that by the Hankel matrix's conditioning (see the MBOIT
+    // oracle test's sensitivity bound): measured 2.3e-4 here.
+    CHECK(worst <= (name == "mboit" ? 1e-3 : 1e-5));
   }
   const FrameResult a = render(reference().scene, "over"), b = render(shuffled, "over");
   CHECK_FALSE(a.finalFloat.sameBits(b.finalFloat));
