@@ -5,6 +5,9 @@
 
 #include <cmath>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "methods/methods.h"
 #include "oitref/method.h"
 
 using namespace oitref;
@@ -102,4 +105,38 @@ TEST_CASE("known: WBOIT fp16 accumulation overflows to inf after about 22 near, 
   CHECK(right.r == Approx(0.3).margin(1e-5));
   const double total = double(firstInf + 4) * double(add);
   CHECK(f32.r == Approx(0.3 * total / 5e4).epsilon(1e-4));
+}
+
+TEST_CASE("known: MBOIT's guards — α = 1, one layer without bias, nearly clear layers", "[known][mboit]") {
+  // One layer and β = 0: the Hankel matrix has rank one; the reconstruction falls back to the
+  // fragment's own layer instead of dividing by zero.
+  const float oneLayer[4] = {0.3f, 0.09f, 0.027f, 0.0081f};  // z = 0.3 exactly
+  const float a = methods::mboitAbsorbance(oneLayer, 0.3f, 0.0f, 0.25f);
+  CHECK(std::isfinite(a));
+  CHECK(a == 0.25f);
+  // α = 1 layers (b0 would be infinite) and α ≈ 0 layers (b0 below the threshold): finite output
+  // that matches the A-buffer where it must — full cover, and (almost) no cover.
+  for (float alpha : {1.0f, 1e-9f}) {
+    const Scene s = stack(5, {0.2f, 0.4f, 0.6f, alpha}, 1.0f, 0.5f);
+    const FrameResult mboit = render(s, "mboit", {}), truth = render(s, "abuffer", {});
+    const glm::vec4 got = mboit.finalFloat.fetch(4, 4), want = truth.finalFloat.fetch(4, 4);
+    INFO("alpha " << alpha << ": mboit " << got.r << "," << got.g << "," << got.b << ", A-buffer " << want.r << "," << want.g << "," << want.b);
+    for (int k = 0; k < 3; ++k) {
+      CHECK(std::isfinite(got[k]));
+      CHECK(got[k] == Approx(want[k]).margin(1e-5));
+    }
+  }
+}
+
+TEST_CASE("known: the camera is glm::lookAt and glm::perspective", "[known]") {
+  Camera c;
+  c.position = {1, 2, 3};
+  c.target = {0, 0.5f, -1};
+  c.fovYDegrees = 63.0f;
+  c.nearPlane = 0.25f;
+  c.farPlane = 80.0f;
+  const glm::mat4 ours = c.projection(1.5f), glm = glm::perspective(glm::radians(63.0f), 1.5f, 0.25f, 80.0f);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) CHECK(ours[i][j] == Approx(glm[i][j]).epsilon(2e-7).margin(1e-30));
+  CHECK(c.view() == glm::lookAt(c.position, c.target, c.up));
 }
