@@ -2,7 +2,8 @@
 #
 #  * -ffp-contract=off: a*b+c must be two roundings, never one fused multiply-add; GL blending is
 #    "product, product, add" and any contraction changes stored bits.
-#  * never -ffast-math (or any of its parts): NaN, inf, signed zero and denormals are data here.
+#  * no unsafe math optimisations of any kind (GCC's "fast math" family): NaN, inf, signed zero
+#    and denormals are data here; associative and reciprocal rewrites are switched off explicitly.
 #  * F16C (x86-64, every CPU since 2012): fp32<->fp16 conversion in one instruction with an
 #    explicit rounding mode. With OITREF_F16C=OFF the portable C++ converter is used instead; a
 #    test proves both give the same bits for every input, so the choice only changes speed.
@@ -10,7 +11,7 @@
 
 add_library(oitref_flags INTERFACE)
 target_compile_options(oitref_flags INTERFACE
-  -ffp-contract=off -fno-fast-math -fno-associative-math -fno-reciprocal-math
+  -ffp-contract=off -fno-associative-math -fno-reciprocal-math
   -Wall -Wextra)
 # GCC 12 at -O3 warns -Wrestrict inside std::string concatenation (a false positive, GCC bug
 # 105651, fixed in GCC 13).

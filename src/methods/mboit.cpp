@@ -137,20 +137,10 @@ class Mboit final : public Method {
       out.write(1, glm::vec4(c.a));
     });
 
-    Framebuffer out;
-    out.color[0] = &t.color("opaque");
-    out.color[1] = &t.analysis();
-    PipelineState composite;
-    composite.profile = context.profile;
-    composite.blend[0] = composite.blend[1] = BlendState::separate(
-        BlendEquation::Add, BlendEquation::Add, BlendFactor::OneMinusSrcAlpha, BlendFactor::SrcAlpha, BlendFactor::Zero,
-        BlendFactor::One);
-    run.fullscreenPass("composite", out, composite, [&](const FragmentInput& in, FragmentOutput& o) {
+    run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {  // as WBOIT
       const glm::vec4 a = accum.fetch(in.x, in.y);
-      const float r = reveal.fetch(in.x, in.y).r;
-      const glm::vec4 s(glm::vec3(a) / std::clamp(a.a, 1e-4f, 5e4f), r);
-      o.write(0, s);
-      o.write(1, s);
+      s = glm::vec4(glm::vec3(a) / std::clamp(a.a, 1e-4f, 5e4f), reveal.fetch(in.x, in.y).r);
+      return true;
     });
     t.finish(result, "opaque");
     return result;

@@ -110,6 +110,24 @@ void PassRunner::fullscreenPass(const std::string& name, Framebuffer& fb, const 
   result_.passes.push_back(report);
 }
 
+void PassRunner::blendOverBackground(FrameTargets& targets,
+                                     const std::function<bool(const FragmentInput&, glm::vec4&)>& source) {
+  Framebuffer out;
+  out.color[0] = &targets.color("opaque");
+  out.color[1] = &targets.analysis();
+  PipelineState composite;
+  composite.profile = context_.profile;
+  composite.blend[0] = composite.blend[1] = BlendState::separate(
+      BlendEquation::Add, BlendEquation::Add, BlendFactor::OneMinusSrcAlpha, BlendFactor::SrcAlpha, BlendFactor::Zero,
+      BlendFactor::One);
+  fullscreenPass("composite", out, composite, [&](const FragmentInput& in, FragmentOutput& o) {
+    glm::vec4 s;
+    if (!source(in, s)) return;
+    o.write(0, s);
+    o.write(1, s);
+  });
+}
+
 BlendState overBlend() {
   return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
                               BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);

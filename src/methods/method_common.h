@@ -65,6 +65,10 @@ class PassRunner {
                        const TransparentShader& shader, bool mayDiscard = false);
   // Index (in the scene) of the object whose triangles are being drawn.
   size_t currentObject() const { return currentObject_; }
+  // The composite of the weighted methods (thesis Algorithms 3, 4, 6): a full-screen pass whose
+  // shader returns (colour, T) — or nothing to keep the background — blended into "opaque" and
+  // the analysis copy with C = C_s·(1 − α_s) + C_d·α_s (alpha kept).
+  void blendOverBackground(FrameTargets& targets, const std::function<bool(const FragmentInput&, glm::vec4&)>& source);
   // One full-screen pass.
   void fullscreenPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const FragmentShader& shader);
 

@@ -50,25 +50,16 @@ class Wavg final : public Method {
       out.write(1, glm::vec4(1.0f));
     });
     // Steps 10–11: blend (avg, T) into C1 with C_f = C_s·(1 − α_s) + C_d·α_s.
-    Framebuffer out;
-    out.color[0] = &t.color("opaque");
-    out.color[1] = &t.analysis();
-    PipelineState composite;
-    composite.profile = context.profile;
-    composite.blend[0] = composite.blend[1] = BlendState::separate(
-        BlendEquation::Add, BlendEquation::Add, BlendFactor::OneMinusSrcAlpha, BlendFactor::SrcAlpha, BlendFactor::Zero,
-        BlendFactor::One);
     const bool thesis = thesis_;
-    run.fullscreenPass("composite", out, composite, [&, thesis](const FragmentInput& in, FragmentOutput& o) {
+    run.blendOverBackground(t, [&, thesis](const FragmentInput& in, glm::vec4& s) {
       const float n = count.fetch(in.x, in.y).r;
-      if (n == 0.0f) return;  // no transparent layer: the background stays
+      if (n == 0.0f) return false;  // no transparent layer: the background stays
       const glm::vec4 a = accum.fetch(in.x, in.y);
       const float meanAlpha = a.a / n;
       const unsigned layers = unsigned(n);
-      const float t = thesis ? powInt(meanAlpha, layers) : powInt(std::max(0.0f, 1.0f - meanAlpha), layers);
-      const glm::vec4 s(glm::vec3(a) / std::max(a.a, 1e-4f), t);
-      o.write(0, s);
-      o.write(1, s);
+      const float tr = thesis ? powInt(meanAlpha, layers) : powInt(std::max(0.0f, 1.0f - meanAlpha), layers);
+      s = glm::vec4(glm::vec3(a) / std::max(a.a, 1e-4f), tr);
+      return true;
     });
     t.finish(result, "opaque");
     return result;
