@@ -12,7 +12,7 @@
 
 using namespace oitref;
 
-TEST_CASE("image io: PFM is RGB fp32, bottom row first; EXR and PNG read back top row first", "[io]") {
+TEST_CASE("image io: PFM is RGB fp32 with the bottom row first, EXR and PNG read back top row first", "[io]") {
   const auto dir = std::filesystem::temp_directory_path() / "oitref-io-test";
   std::filesystem::create_directories(dir);
   Image img(makeFormat(FormatId::RGBA32F), 3, 2);

@@ -212,7 +212,7 @@ TEST_CASE("methods: WBOIT is eq. 2.5 with its weight function", "[methods]") {
   }
 }
 
-TEST_CASE("methods: order-independent methods ignore the submission order; OVER does not", "[methods]") {
+TEST_CASE("methods: order-independent methods ignore the submission order and OVER does not", "[methods]") {
   Scene shuffled = reference().scene;
   std::reverse(shuffled.objects.begin() + 1, shuffled.objects.end());
   for (const char* m : {"wsum", "wavg", "wboit", "abuffer", "peel", "mboit"}) {
