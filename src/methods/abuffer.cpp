@@ -128,6 +128,11 @@ const MethodInfo& abufferInfo() {
        {"max_fragments", "50000000", "fragment budget (32 bytes each); exceeding it is an error", {}}}};
   return info;
 }
-std::unique_ptr<Method> makeAbuffer(const MethodOptions& o) { return std::make_unique<Abuffer>(o); }
+std::unique_ptr<Method> makeAbuffer(const MethodOptions& o) {
+  const double n = o.number("max_fragments");
+  if (!(n >= 1 && n <= 0x1p40))
+    throw std::invalid_argument("method 'abuffer' option 'max_fragments': must be 1..2^40, got " + o.text("max_fragments"));
+  return std::make_unique<Abuffer>(o);
+}
 
 }  // namespace oitref::methods
