@@ -49,9 +49,7 @@ class Abuffer final : public Method {
     const size_t pixels = size_t(w) * size_t(h);
     Framebuffer depthOnly;
     depthOnly.depth = &t.depth("depth");
-    PipelineState st;
-    st.profile = context.profile;
-    st.depth = transparentDepth();
+    const PipelineState st = transparentState(context.profile, BlendState{});
 
     std::vector<uint32_t> count(pixels, 0);
     run.transparentPass("count", depthOnly, st, [&](const FragmentInput& in, const glm::vec4&, FragmentOutput&) {
@@ -74,9 +72,7 @@ class Abuffer final : public Method {
       fragments[start[p] + filled[p]++] = {in.depth, in.viewDepth, c, uint32_t(run.currentObject()), in.primitiveId};
     });
 
-    Framebuffer out;
-    out.color[0] = &t.color("opaque");
-    out.color[1] = &t.analysis();
+    Framebuffer out = t.present(false);
     PipelineState plain;
     plain.profile = context.profile;
     Image& opaque = t.color("opaque");

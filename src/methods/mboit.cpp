@@ -101,10 +101,7 @@ class Mboit final : public Method {
       return float(-detLog(1.0 - double(std::min(alpha, 1.0f - 0x1p-20f))));
     };
 
-    PipelineState additive;
-    additive.profile = context.profile;
-    additive.depth = transparentDepth();
-    additive.blend[0] = additive.blend[1] = BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One);
+    const PipelineState additive = transparentState(context.profile, BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One));
     Framebuffer momentFb;
     momentFb.color[0] = &b0Image;
     momentFb.color[1] = &moments;
@@ -138,8 +135,7 @@ class Mboit final : public Method {
     });
 
     run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {  // as WBOIT
-      const glm::vec4 a = accum.fetch(in.x, in.y);
-      s = glm::vec4(glm::vec3(a) / std::clamp(a.a, 1e-4f, 5e4f), reveal.fetch(in.x, in.y).r);
+      s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);
       return true;
     });
     t.finish(result, "opaque");

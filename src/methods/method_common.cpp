@@ -38,6 +38,14 @@ DepthBuffer& FrameTargets::depth(const std::string& name) {
   return it->second;
 }
 
+Framebuffer FrameTargets::present(bool withDepth) {
+  Framebuffer fb;
+  fb.color[0] = &color("opaque");
+  fb.color[1] = &analysis_;
+  if (withDepth) fb.depth = &depth("depth");
+  return fb;
+}
+
 void FrameTargets::finish(FrameResult& result, const std::string& finalName) {
   result.final8 = color(finalName);
   result.finalFloat = std::move(analysis_);
@@ -112,9 +120,7 @@ void PassRunner::fullscreenPass(const std::string& name, Framebuffer& fb, const 
 
 void PassRunner::blendOverBackground(FrameTargets& targets,
                                      const std::function<bool(const FragmentInput&, glm::vec4&)>& source) {
-  Framebuffer out;
-  out.color[0] = &targets.color("opaque");
-  out.color[1] = &targets.analysis();
+  Framebuffer out = targets.present(false);
   PipelineState composite;
   composite.profile = context_.profile;
   composite.blend[0] = composite.blend[1] = BlendState::separate(
@@ -134,5 +140,13 @@ BlendState overBlend() {
 }
 
 DepthState transparentDepth() { return {true, CompareFunc::Less, false, false}; }
+
+PipelineState transparentState(const Profile& profile, const BlendState& blend) {
+  PipelineState st;
+  st.profile = profile;
+  st.depth = transparentDepth();
+  st.blend[0] = st.blend[1] = blend;
+  return st;
+}
 
 }  // namespace oitref::methods

@@ -3,6 +3,7 @@
 // and the full-screen composite. Each method file then reads like its paper's pseudocode.
 #pragma once
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <string>
@@ -19,6 +20,9 @@ class FrameTargets {
   Image& color(const std::string& name);
   DepthBuffer& depth(const std::string& name);
   Image& analysis() { return analysis_; }
+  // "opaque" as target 0 and the analysis copy as target 1 (and "depth" when asked): where a
+  // method's result is presented.
+  Framebuffer present(bool withDepth);
   // Moves every colour attachment and the finals into the result.
   void finish(FrameResult& result, const std::string& finalName);
 
@@ -78,9 +82,17 @@ class PassRunner {
   size_t currentObject_ = 0;
 };
 
+// S_oit of WBOIT and MBOIT (thesis eq. 2.7 with McGuire–Bavoil listing 3's clamp): the weighted
+// average accum.rgb / clamp(accum.a, 1e-4, 5e4) and, as alpha, the revealage.
+inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
+  return {glm::vec3(accum) / std::clamp(accum.a, 1e-4f, 5e4f), reveal};
+}
+
 // The blend state a method composites with, and GL's OVER.
 BlendState overBlend();  // src_alpha, one_minus_src_alpha; alpha one, one_minus_src_alpha
 // Depth state of the transparent passes: test LESS against the opaque depth, no writes.
 DepthState transparentDepth();
+// A transparent pass's state: the profile, transparentDepth(), and `blend` on targets 0 and 1.
+PipelineState transparentState(const Profile& profile, const BlendState& blend);
 
 }  // namespace oitref::methods

@@ -15,14 +15,8 @@ class Over final : public Method {
     FrameTargets targets(attachments(), context.width, context.height);
     PassRunner run(context, result);
     run.opaquePass(targets);
-    Framebuffer fb;
-    fb.color[0] = &targets.color("opaque");
-    fb.color[1] = &targets.analysis();
-    fb.depth = &targets.depth("depth");
-    PipelineState st;
-    st.profile = context.profile;
-    st.depth = transparentDepth();
-    st.blend[0] = st.blend[1] = overBlend();
+    Framebuffer fb = targets.present(true);
+    const PipelineState st = transparentState(context.profile, overBlend());
     run.transparentPass("transparent", fb, st, [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
       out.write(0, c);
       out.write(1, c);

@@ -69,9 +69,7 @@ class Peel final : public Method {
       peeledDepth = layerDepth;                                     // step 13: D3 ← D2
     }
     // Step 15: C1 = C3.rgb + C1·C3.a.
-    Framebuffer out;
-    out.color[0] = &t.color("opaque");
-    out.color[1] = &t.analysis();
+    Framebuffer out = t.present(false);
     PipelineState merge;
     merge.profile = context.profile;
     merge.blend[0] = merge.blend[1] = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One,

@@ -60,14 +60,8 @@ class Sorted final : public Method {
       }
       objectOf.push_back(part.objectIndex);
     }
-    Framebuffer fb;
-    fb.color[0] = &targets.color("opaque");
-    fb.color[1] = &targets.analysis();
-    fb.depth = &targets.depth("depth");
-    PipelineState st;
-    st.profile = context.profile;
-    st.depth = transparentDepth();
-    st.blend[0] = st.blend[1] = overBlend();
+    Framebuffer fb = targets.present(true);
+    const PipelineState st = transparentState(context.profile, overBlend());
     const auto t0 = std::chrono::steady_clock::now();
     PassReport report{"sorted transparent", 0, {}};
     if (!order.empty())

@@ -71,11 +71,8 @@ class Wboit final : public Method {
     fb.color[0] = &accum;
     fb.color[1] = &reveal;
     fb.depth = &t.depth("depth");
-    PipelineState st;
-    st.profile = context.profile;
-    st.depth = transparentDepth();                                   // step 7
-    st.blend[0] = BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One);              // 11
-    st.blend[1] = BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);  // 10
+    PipelineState st = transparentState(context.profile, BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One));  // steps 7, 11
+    st.blend[1] = BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);  // step 10
     const Weight kind = weight_;
     const bool adaptive = adaptive_;
     run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
@@ -87,8 +84,7 @@ class Wboit final : public Method {
     });
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
     run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {
-      const glm::vec4 a = accum.fetch(in.x, in.y);
-      s = glm::vec4(glm::vec3(a) / std::clamp(a.a, 1e-4f, 5e4f), reveal.fetch(in.x, in.y).r);
+      s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);
       return true;
     });
     t.finish(result, "opaque");
