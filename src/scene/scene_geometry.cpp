@@ -1,19 +1,12 @@
 #include "oitref/scene_geometry.h"
 
-#include <random>
+#include "util/seeded_random.h"
+
 
 #include <glm/geometric.hpp>
 
 namespace oitref {
 namespace {
-
-// Seeded and portable: std::mt19937's sequence is fixed by the standard; the distributions are
-// not, so floats are made from its output here.
-struct Random {
-  std::mt19937 engine;
-  explicit Random(uint32_t seed) : engine(seed) {}
-  double uniform(double lo, double hi) { return lo + (hi - lo) * double(engine() >> 8) * (1.0 / 16777216.0); }
-};
 
 void pushVertex(ScenePart& part, const glm::vec3& p, const glm::vec4& color, glm::vec2 uv) {
   part.positions.push_back(p);
@@ -39,7 +32,7 @@ ScenePart particlePart(const SceneObject& o, const Camera& camera) {
   const glm::dvec3 up = glm::cross(right, forward);
   const double half = 0.5 * double(o.particleSize);
   const glm::vec4 color = o.colorOverride.value_or(glm::vec4(1.0f));
-  Random rng(o.seed);
+  util::SeededRandom rng(o.seed);
   for (int i = 0; i < o.particleCount; ++i) {
     glm::dvec3 p;
     do {  // uniform in the unit ball, by rejection

@@ -2,22 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "oitref/fp_environment.h"
+#include "util/seeded_random.h"
 
 namespace oitref::tools {
 namespace {
-
-// Portable seeded floats: std::mt19937's sequence is fixed by the standard; the distributions
-// are not, so we map its output ourselves.
-struct Random {
-  std::mt19937 engine;
-  explicit Random(uint32_t seed) : engine(seed) {}
-  float uniform(float lo, float hi) { return lo + (hi - lo) * float(engine() >> 8) * (1.0f / 16777216.0f); }
-};
 
 constexpr int kColor = 0;  // attribute slots: rgba, then uv for the floor
 
@@ -38,18 +30,18 @@ Geometry floorGeometry(const glm::mat4& vp) {
 }
 
 Geometry cloudGeometry(const glm::mat4& vp, int count, uint32_t seed) {
-  Random rng(seed);
+  util::SeededRandom rng(seed);
   std::vector<glm::vec3> p;
   std::vector<glm::vec4> a;
   for (int t = 0; t < count; ++t) {
     // Every eighth triangle is large and reaches past the camera, so it crosses the near plane.
     const bool big = t % 8 == 7;
-    const glm::vec3 c(rng.uniform(-3, 3), rng.uniform(0.3f, 2.5f), big ? rng.uniform(2, 4.5f) : rng.uniform(-5, 2));
-    const float r = big ? 3.0f : rng.uniform(0.6f, 1.6f);
-    const glm::vec4 color(rng.uniform(0.1f, 1), rng.uniform(0.1f, 1), rng.uniform(0.1f, 1), rng.uniform(0.25f, 0.75f));
+    const glm::vec3 c(rng.uniformFloat(-3, 3), rng.uniformFloat(0.3f, 2.5f), big ? rng.uniformFloat(2, 4.5f) : rng.uniformFloat(-5, 2));
+    const float r = big ? 3.0f : rng.uniformFloat(0.6f, 1.6f);
+    const glm::vec4 color(rng.uniformFloat(0.1f, 1), rng.uniformFloat(0.1f, 1), rng.uniformFloat(0.1f, 1), rng.uniformFloat(0.25f, 0.75f));
     for (int k = 0; k < 3; ++k) {
-      const float angle = rng.uniform(0, 6.2831853f);
-      p.push_back(c + r * glm::vec3(std::cos(angle), std::sin(angle), big ? rng.uniform(-1, 2) : rng.uniform(-0.5f, 0.5f)));
+      const float angle = rng.uniformFloat(0, 6.2831853f);
+      p.push_back(c + r * glm::vec3(std::cos(angle), std::sin(angle), big ? rng.uniformFloat(-1, 2) : rng.uniformFloat(-0.5f, 0.5f)));
       a.push_back(color);
     }
   }

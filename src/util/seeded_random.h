@@ -1,0 +1,22 @@
+// Seeded uniform numbers that are the same on every platform: std::mt19937's sequence is fixed
+// by the C++ standard, its distributions are not, so the mapping to [0, 1) is done here — the
+// top 24 bits of each output times 2^-24, exact in float and double alike.
+#pragma once
+
+#include <cstdint>
+#include <random>
+
+namespace oitref::util {
+
+class SeededRandom {
+ public:
+  explicit SeededRandom(uint32_t seed) : engine_(seed) {}
+  double unit() { return double(engine_() >> 8) * (1.0 / 16777216.0); }  // in [0, 1)
+  double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
+  float uniformFloat(float lo, float hi) { return lo + (hi - lo) * float(unit()); }
+
+ private:
+  std::mt19937 engine_;
+};
+
+}  // namespace oitref::util
