@@ -106,12 +106,9 @@ void addBlendCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--cases", o->cases, "CSV file of cases ('-' for stdin); results as CSV on stdout");
   cmd->add_option("--profile", o->profile, "exact | llvmpipe, optionally with ,key=value overrides")->capture_default_str();
   cmd->callback([o, &exitCode] {
-    try {
-      exitCode = o->cases.empty() ? runSingle(*o) : runBatch(*o);
-    } catch (const std::exception& e) {
-      std::cerr << "oitref blend: " << e.what() << "\n";
-      exitCode = 2;
-    }
+    exitCode = runReportingErrors("blend", [&] {
+      return o->cases.empty() ? runSingle(*o) : runBatch(*o);
+    });
   });
 }
 

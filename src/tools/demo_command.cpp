@@ -57,12 +57,9 @@ void addDemoCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024))->capture_default_str();
   cmd->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
   cmd->callback([o, &exitCode] {
-    try {
-      exitCode = runDemo(*o);
-    } catch (const std::exception& e) {
-      std::cerr << "oitref demo: " << e.what() << "\n";
-      exitCode = 2;
-    }
+    exitCode = runReportingErrors("demo", [&] {
+      return runDemo(*o);
+    });
   });
 }
 

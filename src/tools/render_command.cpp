@@ -115,12 +115,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--repeat", o->repeat, "Render N times, report the median frame time")->check(CLI::Range(1, 1000));
   cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
   cmd->callback([o, &exitCode] {
-    try {
-      exitCode = runRender(*o);
-    } catch (const std::exception& e) {
-      std::cerr << "oitref render: " << e.what() << "\n";
-      exitCode = 2;
-    }
+    exitCode = runReportingErrors("render", [&] {
+      return runRender(*o);
+    });
   });
 }
 

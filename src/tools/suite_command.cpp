@@ -29,7 +29,7 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   suite->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
   suite->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
   suite->callback([o, &exitCode] {
-    try {
+    exitCode = runReportingErrors("suite", [&] {
       std::vector<std::string> scenes = o->scenes.empty() ? sceneFiles("scenes") : o->scenes;
       int w = 0, h = 0;
       if (!o->size.empty()) {
@@ -46,11 +46,8 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
         std::fflush(stdout);
       }
       if (!o->out.empty()) std::printf("images in %s/<scene>/<method>.png|.exr\n", o->out.c_str());
-      exitCode = 0;
-    } catch (const std::exception& e) {
-      std::cerr << "oitref suite: " << e.what() << "\n";
-      exitCode = 2;
-    }
+      return 0;
+    });
   });
 
   CLI::App* ref = app.add_subcommand("reference", "Check (or, with --write, regenerate) the golden reference images");
@@ -59,7 +56,7 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   ref->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
   ref->add_flag("--write", o->write, "Regenerate the images and the manifest (only on purpose)");
   ref->callback([o, &exitCode] {
-    try {
+    exitCode = runReportingErrors("reference", [&] {
       Renderer renderer(RendererOptions{o->threads, 64});
       if (o->write) std::filesystem::create_directories(o->dir);
       const auto manifest = o->write ? std::vector<ReferenceEntry>{} : readManifest(o->dir + "/manifest.txt");
@@ -72,11 +69,8 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
       }
       if (!o->write && manifest.size() != entries.size()) std::printf("the manifest lists %zu images, the scenes make %zu\n", manifest.size(), entries.size()), ++bad;
       std::printf("%s %zu reference images\n", o->write ? "wrote" : (bad ? "FAILED:" : "identical:"), entries.size());
-      exitCode = bad ? 1 : 0;
-    } catch (const std::exception& e) {
-      std::cerr << "oitref reference: " << e.what() << "\n";
-      exitCode = 2;
-    }
+      return bad ? 1 : 0;
+    });
   });
 }
 
