@@ -17,10 +17,12 @@
 //  * The result is quantised to the format immediately (every write is a conversion), then
 //    channels whose write-mask bit is clear keep their old bits (§17.4.2).
 //  * With blending disabled the source is converted and written under the write mask.
-//  * Profile "llvmpipe" with unorm8_blend=integer: 8-bit UNORM targets (r8, rg8, rgba8) blend in
-//    integers as Mesa's llvmpipe does: source and constant quantised to 8 bits first by the
-//    profile's UNORM rule, a·b/255 computed as t = a·b + 128; (t + (t >> 8)) >> 8, 1 − x as
-//    255 − x, ADD saturating at 255 and SUBTRACT at 0.
+//  * Profile "llvmpipe" with unorm_blend=integer: UNORM targets blend in integers of w bits as
+//    Mesa's llvmpipe does (w = 8 for r8, rg8, rgba8; 16 for rgb10a2): source and constant
+//    quantised to w bits first by the profile's UNORM rule, stored channels widened by bit
+//    replication, a·b/(2^w−1) computed as t = a·b + 2^(w−1); (t + (t >> w)) >> w, 1 − x as
+//    2^w−1 − x, ADD saturating at the maximum and SUBTRACT at 0, the result narrowed to the
+//    channel's bits as src/format/unorm_rescale.h says.
 #pragma once
 
 #include <cstdint>

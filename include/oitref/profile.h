@@ -5,12 +5,17 @@
 //            blending in fp32 as GL 4.6 §17.3.6 writes it. The reference default.
 //  llvmpipe  Mesa's software GL driver: fp16 and F11/F10 stores round toward zero (finite
 //            overflow -> largest finite value); UNORM conversion rounds the fp32 product
-//            f·(2^b−1); UNORM8 targets blend in 8-bit integers on the quantised source with
-//            a·b/255 computed as t = a·b + 128; (t + (t >> 8)) >> 8.
+//            f·(2^b−1); UNORM targets blend in integers of 8 bits (r8, rg8, rgba8) or 16 bits
+//            (rgb10a2) on the quantised source, a·b/(2^w−1) as t = a·b + 2^(w−1);
+//            (t + (t >> w)) >> w; rgb10a2 channels go through 16 bits even with blending off
+//            and are narrowed by truncation (colour) — see src/format/unorm_rescale.h.
+//            Float targets blend as llvmpipe's generated code does (constant folding, lerps,
+//            minps/maxps; src/blend/blend_llvmpipe_float.h), with the lerp's multiply-add fused
+//            as on CPUs with FMA (fma=on; use "llvmpipe,fma=off" for a CPU without FMA).
 //
 // A profile string may override single fields: "exact,fp16=rtz", "llvmpipe,unorm=exact".
 // Keys: fp16, packed (F11/F10), minifloat (user minifloat formats): rne|rtz;
-// unorm: exact|fp32; unorm8_blend: float|integer.
+// unorm: exact|fp32; unorm_blend: float|integer; float_blend: ieee|llvmpipe; fma: on|off.
 #pragma once
 
 #include <string>
@@ -20,7 +25,8 @@
 
 namespace oitref {
 
-enum class Unorm8Blend : uint8_t { Float, Integer };
+enum class UnormBlend : uint8_t { Float, Integer };
+enum class FloatBlend : uint8_t { Ieee, Llvmpipe };
 
 struct Profile {
   std::string name = "exact";
@@ -28,7 +34,9 @@ struct Profile {
   Rounding packedFloat = Rounding::NearestEven;  // the F11/F10 channels of r11g11b10f
   Rounding minifloat = Rounding::NearestEven;    // user-defined minifloat formats
   UnormRounding unorm = UnormRounding::ExactNearestEven;
-  Unorm8Blend unorm8Blend = Unorm8Blend::Float;
+  UnormBlend unormBlend = UnormBlend::Float;
+  FloatBlend floatBlend = FloatBlend::Ieee;  // how float targets evaluate the blend equation
+  bool fma = false;                          // llvmpipe's lerp fused (CPUs with FMA) or not
 
   bool operator==(const Profile&) const = default;
   std::string describe() const;  // every field, e.g. for reports and failing tests

@@ -1,5 +1,5 @@
 // GL 4.6 table 17.2, the blend factors, as data used by every blending arithmetic (fp32 in
-// blend_math.h, llvmpipe's 8-bit integers in blend_unorm8_integer.cpp).
+// blend_math.h, llvmpipe's integers in blend_unorm_integer.cpp).
 //
 // Every row (f_R, f_G, f_B, f_A) of the table is one of eight candidate vectors v, or 1 − v:
 //   0 zero   1 (Rs, Gs, Bs, As)   2 (Rd, Gd, Bd, Ad)   3 (As, As, As, As)   4 (Ad, Ad, Ad, Ad)

@@ -4,7 +4,8 @@
 #include <cstring>
 
 #include "blend/blend_math.h"
-#include "blend/blend_unorm8_integer.h"
+#include "blend/blend_llvmpipe_float.h"
+#include "blend/blend_unorm_integer.h"
 #include "format/fp16_inline.h"
 
 namespace oitref::detail {
@@ -20,14 +21,16 @@ const std::array<float, 256> kUnorm8Decode = [] {
 }  // namespace
 
 TargetBlender::TargetBlender(const Format& format, const BlendState& state, const glm::vec4& constant,
-                             const Profile& profile, bool allowFastPath)
+                             const Profile& profile, bool allowFastPath, bool smallFloatTargetBound)
     : format_(format), state_(state), compiled_(compileBlend(state)), constant_(format.isUnorm() ? clampUnit4(constant) : constant),
       rawConstant_(constant), profile_(profile) {
   const unsigned all = (1u << format.channels) - 1;
   mask_ = state.writeMask & all;
-  const bool integer8 = profile.unorm8Blend == Unorm8Blend::Integer && format.isUnorm() && !format.isPacked();
+  flushDenormals_ = !(smallFloatTargetBound || isSmallFloatFormat(format));
+  const bool integer = profile.unormBlend == UnormBlend::Integer && format.isUnorm();
   if (mask_ == 0) kernel_ = maskedOffKernel;
-  else if (state.enabled && integer8) kernel_ = integerUnorm8Kernel;
+  else if (state.enabled && integer) kernel_ = integerUnormKernel;
+  else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) kernel_ = llvmpipeFloatKernel;
   else if (!allowFastPath || mask_ != all) kernel_ = genericKernel;
   else {
     const int c = format.channels;
@@ -61,8 +64,17 @@ void TargetBlender::genericKernel(const TargetBlender& b, const glm::vec4& sourc
   mergeTexelChannels(f, encoded, texel, b.mask_);
 }
 
-void TargetBlender::integerUnorm8Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  blendUnorm8Integer(b.format_.channels, b.state_, b.rawConstant_, b.profile_.unorm, source, b.mask_, texel);
+void TargetBlender::llvmpipeFloatKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  const Format& f = b.format_;
+  const glm::vec4 result = blendLlvmpipeFloat(f, b.state_, b.rawConstant_, b.profile_.fma, b.flushDenormals_, source,
+                                              decodeTexel(f, texel));
+  uint8_t encoded[16];
+  encodeTexel(f, result, b.profile_, encoded);
+  mergeTexelChannels(f, encoded, texel, b.mask_);
+}
+
+void TargetBlender::integerUnormKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  blendUnormInteger(b.format_, b.state_, b.rawConstant_, b.profile_.unorm, source, b.mask_, texel);
 }
 
 template <int Channels>

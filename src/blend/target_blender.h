@@ -16,10 +16,18 @@
 
 namespace oitref::detail {
 
+// Formats llvmpipe calls "small float": stored in fewer than 32 bits per float channel.
+inline bool isSmallFloatFormat(const Format& f) {
+  const ChannelEncoding e = f.encoding();
+  return e == ChannelEncoding::Half || e == ChannelEncoding::PackedFloat11_10 || e == ChannelEncoding::Minifloat;
+}
+
 class TargetBlender {
  public:
+  // `smallFloatTargetBound`: the draw also writes an fp16, r11g11b10f or minifloat target (the
+  // llvmpipe profile then keeps denormals in the blend arithmetic, as llvmpipe does per draw).
   TargetBlender(const Format& format, const BlendState& state, const glm::vec4& constant, const Profile& profile,
-                bool allowFastPath = true);
+                bool allowFastPath = true, bool smallFloatTargetBound = false);
   void blend(const glm::vec4& source, uint8_t* texel) const { kernel_(*this, source, texel); }
 
  private:
@@ -28,7 +36,8 @@ class TargetBlender {
   template <int Channels> static void halfKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <int Channels> static void float32Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void genericKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
-  static void integerUnorm8Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  static void integerUnormKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  static void llvmpipeFloatKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void maskedOffKernel(const TargetBlender&, const glm::vec4&, uint8_t*) {}
 
   Format format_;
@@ -38,6 +47,7 @@ class TargetBlender {
   glm::vec4 rawConstant_;
   Profile profile_;
   unsigned mask_;
+  bool flushDenormals_;
   Kernel kernel_;
 };
 

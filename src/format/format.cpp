@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "format/fp16_inline.h"
+#include "format/unorm_rescale.h"
 #include "oitref/unorm.h"
 
 namespace oitref {
@@ -130,7 +131,13 @@ void encodeTexel(const Format& f, const glm::vec4& v, const Profile& profile, ui
     case ChannelEncoding::Unorm:
       if (f.id == FormatId::RGB10A2) {
         uint32_t w = 0;
-        for (int c = 0; c < 4; ++c) w |= encodeUnorm(v[c], kRgb10a2Bits[c], profile.unorm) << kRgb10a2Shift[c];
+        for (int c = 0; c < 4; ++c) {
+          // llvmpipe writes these channels through its 16-bit blend integers even with blending off.
+          const uint32_t code = profile.unormBlend == UnormBlend::Integer
+                                    ? detail::encodeUnormThroughWidth(v[c], kRgb10a2Bits[c], 16, profile.unorm)
+                                    : encodeUnorm(v[c], kRgb10a2Bits[c], profile.unorm);
+          w |= code << kRgb10a2Shift[c];
+        }
         storeWord(texel, w);
       } else {
         for (int c = 0; c < f.channels; ++c) texel[c] = uint8_t(encodeUnorm(v[c], 8, profile.unorm));

@@ -21,7 +21,8 @@ std::string Profile::describe() const {
   s << name << " (fp16=" << roundingName(fp16) << ", packed=" << roundingName(packedFloat)
     << ", minifloat=" << roundingName(minifloat)
     << ", unorm=" << (unorm == UnormRounding::ExactNearestEven ? "exact" : "fp32")
-    << ", unorm8_blend=" << (unorm8Blend == Unorm8Blend::Float ? "float" : "integer") << ")";
+    << ", unorm_blend=" << (unormBlend == UnormBlend::Float ? "float" : "integer")
+    << ", float_blend=" << (floatBlend == FloatBlend::Ieee ? "ieee" : "llvmpipe") << ", fma=" << (fma ? "on" : "off") << ")";
   return s.str();
 }
 
@@ -34,7 +35,9 @@ Profile llvmpipeProfile() {
   p.packedFloat = Rounding::TowardZero;
   p.minifloat = Rounding::NearestEven;
   p.unorm = UnormRounding::Fp32Product;
-  p.unorm8Blend = Unorm8Blend::Integer;
+  p.unormBlend = UnormBlend::Integer;
+  p.floatBlend = FloatBlend::Llvmpipe;
+  p.fma = true;
   return p;
 }
 
@@ -59,13 +62,21 @@ Profile parseProfile(const std::string& text) {
       if (value == "exact") p.unorm = UnormRounding::ExactNearestEven;
       else if (value == "fp32") p.unorm = UnormRounding::Fp32Product;
       else throw std::invalid_argument("profile key 'unorm': expected exact or fp32, got '" + value + "'");
-    } else if (key == "unorm8_blend") {
-      if (value == "float") p.unorm8Blend = Unorm8Blend::Float;
-      else if (value == "integer") p.unorm8Blend = Unorm8Blend::Integer;
-      else throw std::invalid_argument("profile key 'unorm8_blend': expected float or integer, got '" + value + "'");
+    } else if (key == "unorm_blend") {
+      if (value == "float") p.unormBlend = UnormBlend::Float;
+      else if (value == "integer") p.unormBlend = UnormBlend::Integer;
+      else throw std::invalid_argument("profile key 'unorm_blend': expected float or integer, got '" + value + "'");
+    } else if (key == "float_blend") {
+      if (value == "ieee") p.floatBlend = FloatBlend::Ieee;
+      else if (value == "llvmpipe") p.floatBlend = FloatBlend::Llvmpipe;
+      else throw std::invalid_argument("profile key 'float_blend': expected ieee or llvmpipe, got '" + value + "'");
+    } else if (key == "fma") {
+      if (value == "on") p.fma = true;
+      else if (value == "off") p.fma = false;
+      else throw std::invalid_argument("profile key 'fma': expected on or off, got '" + value + "'");
     } else {
       throw std::invalid_argument("unknown profile key '" + key +
-                                  "' (valid: fp16, packed, minifloat, unorm, unorm8_blend)");
+                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma)");
     }
     overridden = true;
   }

@@ -8,10 +8,13 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
     : fb_(fb), state_(state), program_(program), geometry_(geometry) {
   earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
   blenders_.reserve(kMaxColorTargets);
+  bool smallFloatBound = false;  // llvmpipe keeps denormals for the whole draw then
+  for (int t = 0; t < kMaxColorTargets; ++t)
+    if (fb.color[size_t(t)]) smallFloatBound |= isSmallFloatFormat(fb.color[size_t(t)]->format());
   for (int t = 0; t < kMaxColorTargets; ++t) {
     if (fb.color[size_t(t)]) boundTargets_ |= 1u << t;
     blenders_.emplace_back(fb.color[size_t(t)] ? fb.color[size_t(t)]->format() : Format{}, state.blend[size_t(t)],
-                           state.blendConstant, state.profile);
+                           state.blendConstant, state.profile, true, smallFloatBound);
   }
   const int n = geometry ? geometry->attributeCount : 0;
   vertexAttributes_.assign(size_t(3 * n), 0.0);

@@ -69,6 +69,15 @@ BlendCase parseBlendCsvLine(const std::string& line) {
   return c;
 }
 
+std::string blendCaseCsvLine(const BlendCase& c) {
+  std::string line = c.format.name() + "," + toString(c.state.equationRgb) + "," + toString(c.state.equationAlpha) + "," +
+                     toString(c.state.srcRgb) + "," + toString(c.state.dstRgb) + "," + toString(c.state.srcAlpha) + "," +
+                     toString(c.state.dstAlpha);
+  for (const glm::vec4* v : {&c.constant, &c.destination, &c.source})
+    for (int i = 0; i < 4; ++i) line += "," + hexFloat((*v)[i]);
+  return line;
+}
+
 std::string formatBlendCsvLine(const std::string& inputLine, const BlendCase& c, const BlendOutcome& o) {
   std::string line = inputLine;
   while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();

@@ -44,6 +44,8 @@ struct BlendCsvError : std::invalid_argument {
   BlendCsvError(int col, const std::string& what) : std::invalid_argument(what), column(col) {}
 };
 BlendCase parseBlendCsvLine(const std::string& line);
+// The case as a CSV line (the 19 input columns), every number as an exact hex float.
+std::string blendCaseCsvLine(const BlendCase& c);
 // The input columns of the case, then the outcome's columns.
 std::string formatBlendCsvLine(const std::string& inputLine, const BlendCase& c, const BlendOutcome& o);
 

@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
   oitref::tools::addRenderCommand(app, exitCode);
   oitref::tools::addMethodsCommand(app, exitCode);
   oitref::tools::addSuiteCommand(app, exitCode);
+#if defined(OITREF_HAVE_GLCHECK)
+  oitref::tools::addGlcheckCommand(app, exitCode);
+#endif
   CLI11_PARSE(app, argc, argv);
   return exitCode;
 }

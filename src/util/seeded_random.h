@@ -14,6 +14,8 @@ class SeededRandom {
   double unit() { return double(engine_() >> 8) * (1.0 / 16777216.0); }  // in [0, 1)
   double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
   float uniformFloat(float lo, float hi) { return lo + (hi - lo) * float(unit()); }
+  uint32_t bits() { return uint32_t(engine_()); }                  // 32 uniform bits
+  uint32_t below(uint32_t n) { return uint32_t(unit() * double(n)); }  // in [0, n), n ≤ 2^24
 
  private:
   std::mt19937 engine_;

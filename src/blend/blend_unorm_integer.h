@@ -1,0 +1,36 @@
+// llvmpipe's integer path for UNORM targets (profile key unorm_blend=integer; see docs/rules.md).
+//
+// llvmpipe (Mesa 22.3, lp_state_fs.c) blends a UNORM target in integers of a "blend width" w:
+// the widest channel rounded up to 8 or 16 bits, so w = 8 for r8/rg8/rgba8 and w = 16 for
+// rgb10a2. The fp32 source and constant are converted to w bits (the fp32-product rule); stored
+// channels of n < w bits are widened by bit replication; a·b/(2^w − 1) is computed as
+// t = a·b + 2^(w−1); (t + (t >> w)) >> w; the result is narrowed back to n bits with
+// llvmpipe's scale_bits: a plain right shift when w − n ≤ n (rgb10a2's colour: truncation), and
+// ((v >> n)·(2^n − 1) + 2^(w−n−1)) >> (w − n) otherwise (rgb10a2's 2-bit alpha). Writes with
+// blending off take the same conversion and narrowing.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+#include "oitref/blend_state.h"
+#include "oitref/format.h"
+#include "oitref/unorm.h"
+#include "format/unorm_rescale.h"
+
+namespace oitref::detail {
+
+// a·b/(2^w − 1) as llvmpipe's lp_build_mul_norm computes it: (ab + (ab >> w) + 2^(w−1)) >> w
+// with ab = a·b. Measured against llvmpipe on all 65536 8-bit pairs: it rounds down the 24
+// products whose exact quotient is k + 0.502 (e.g. 244·197/255 = 188.502 → 188).
+inline uint32_t mulUnormInteger(uint32_t a, uint32_t b, int w) {
+  const uint64_t ab = uint64_t(a) * b;
+  return uint32_t((ab + (ab >> w) + (uint64_t(1) << (w - 1))) >> w);
+}
+inline uint32_t mulUnorm8(uint32_t a, uint32_t b) { return mulUnormInteger(a, b, 8); }
+
+void blendUnormInteger(const Format& format, const BlendState& state, const glm::vec4& constant, UnormRounding rounding,
+                       const glm::vec4& source, unsigned writeMask, uint8_t* texel);
+
+}  // namespace oitref::detail

@@ -1,0 +1,127 @@
+// `oitref glcheck`: checks oitref against a real OpenGL driver (headless, through EGL).
+//   glcheck blend  the blend cases of `oitref blend --cases`, or generated ones, bit for bit
+//   glcheck scene  scenes rendered by the GL version of each method, against `oitref render`
+#include <fstream>
+#include <iostream>
+#include <memory>
+
+#include "glcheck/blend_check.h"
+#include "glcheck/gl_context.h"
+#include "tools/blend_case_generator.h"
+#include "tools/commands.h"
+
+namespace oitref::glcheck {
+namespace {
+
+struct BlendCheckOptions {
+  std::string cases, writeCases, results, profile = "llvmpipe";
+  size_t generate = 20000, list = 20;
+  uint32_t seed = 1;
+  bool nonFinite = false;
+};
+
+void printDriver(const GlContext& context) {
+  std::cout << "GL renderer  " << context.renderer() << "\n"
+            << "GL version   " << context.version() << "\n"
+            << "GL vendor    " << context.vendor() << "  (EGL " << context.platform() << " platform)\n";
+}
+
+// Reads a CSV of cases; bad lines are reported and skipped (as `oitref blend --cases` does).
+size_t readCases(const std::string& path, std::vector<tools::BlendCase>& cases, std::vector<size_t>& lines) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read '" + path + "'");
+  std::string line;
+  size_t number = 0, bad = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (number == 1 || line.find_first_not_of(" \t\r") == std::string::npos) continue;  // header, blank
+    try {
+      cases.push_back(tools::parseBlendCsvLine(line));
+      lines.push_back(number);
+    } catch (const tools::BlendCsvError& e) {
+      std::cerr << path << ": line " << number << ", column " << e.column << " ("
+                << tools::kBlendCsvColumns[std::min(e.column, 19) - 1] << "): " << e.what() << "\n";
+      ++bad;
+    }
+  }
+  return bad;
+}
+
+// Every case with GL's and oitref's stored destination and result bits, as CSV.
+void writeResults(const std::string& path, const std::vector<tools::BlendCase>& cases, const std::vector<GlTexels>& gl,
+                  const Profile& profile) {
+  std::ofstream w(path);
+  w << tools::blendCsvHeader(false) << ",gl_dst_bits,gl_result_bits,oitref_dst_bits,oitref_result_bits,equal\n";
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const tools::BlendCase& c = cases[i];
+    const tools::BlendOutcome ours = tools::evaluate(c, profile);
+    const std::string glDst = texelBitsToString(c.format, gl[i].destination.data());
+    const std::string glResult = texelBitsToString(c.format, gl[i].result.data());
+    const std::string ourDst = texelBitsToString(c.format, ours.dstTexel.data());
+    const std::string ourResult = texelBitsToString(c.format, ours.resultTexel.data());
+    w << tools::blendCaseCsvLine(c) << "," << glDst << "," << glResult << "," << ourDst << "," << ourResult << ","
+      << (glDst == ourDst && glResult == ourResult ? "yes" : "no") << "\n";
+  }
+  if (!w) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+int runBlendCheck(const BlendCheckOptions& o) {
+  const Profile profile = parseProfile(o.profile);
+  std::vector<tools::BlendCase> cases;
+  std::vector<size_t> lines;
+  size_t bad = 0;
+  if (!o.cases.empty()) {
+    bad = readCases(o.cases, cases, lines);
+  } else {
+    tools::BlendCaseGeneratorOptions g;
+    g.count = o.generate;
+    g.seed = o.seed;
+    g.nonFinite = o.nonFinite;
+    cases = tools::generateBlendCases(g);
+  }
+  if (!o.writeCases.empty()) {
+    std::ofstream w(o.writeCases);
+    w << tools::blendCsvHeader(false) << "\n";
+    for (const auto& c : cases) w << tools::blendCaseCsvLine(c) << "\n";
+    if (!w) throw std::runtime_error("cannot write '" + o.writeCases + "'");
+  }
+  for (const auto& c : cases)
+    if (c.format.id == FormatId::Minifloat)
+      throw std::invalid_argument("format " + c.format.name() + " has no OpenGL equivalent");
+  GlContext context;
+  printDriver(context);
+  std::cout << (o.cases.empty() ? "generated " + std::to_string(cases.size()) + " cases, seed " + std::to_string(o.seed) +
+                                      (o.nonFinite ? ", with NaN and inf" : "")
+                                : std::to_string(cases.size()) + " cases from " + o.cases)
+            << "\n";
+  const std::vector<GlTexels> texels = runBlendCases(context, cases);
+  const BlendCheckSummary s = compareBlendCases(cases, texels, profile, lines, o.list, std::cout);
+  if (!o.results.empty()) writeResults(o.results, cases, texels, profile);
+  if (bad) std::cerr << "oitref glcheck blend: " << bad << " bad line(s) skipped\n";
+  return (s.destinationMismatches || s.resultMismatches || bad) ? 1 : 0;
+}
+
+}  // namespace
+}  // namespace oitref::glcheck
+
+namespace oitref::tools {
+
+void addGlcheckCommand(CLI::App& app, int& exitCode) {
+  CLI::App* cmd = app.add_subcommand("glcheck", "Check oitref against a real OpenGL driver (headless EGL), bit for bit");
+  cmd->require_subcommand(1);
+
+  auto b = std::make_shared<glcheck::BlendCheckOptions>();
+  CLI::App* blend = cmd->add_subcommand("blend", "Blend cases on the GL driver and in oitref; exit 1 on any bit difference");
+  blend->add_option("--cases", b->cases, "CSV of cases as `oitref blend --cases` reads them (default: generate)");
+  blend->add_option("--generate", b->generate, "Number of random cases to generate")->capture_default_str();
+  blend->add_option("--seed", b->seed, "Seed of the generated cases")->capture_default_str();
+  blend->add_flag("--nonfinite", b->nonFinite, "Generate NaN and infinities too");
+  blend->add_option("--write-cases", b->writeCases, "Also write the cases as CSV (for `oitref blend --cases`)");
+  blend->add_option("--results", b->results, "Write every case with GL's and oitref's bits as CSV");
+  blend->add_option("--profile", b->profile, "oitref profile to compare with")->capture_default_str();
+  blend->add_option("--list", b->list, "How many mismatches to list")->capture_default_str();
+  blend->callback([b, &exitCode] { exitCode = runReportingErrors("glcheck blend", [&] { return glcheck::runBlendCheck(*b); }); });
+
+}
+
+}  // namespace oitref::tools
