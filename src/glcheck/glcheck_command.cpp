@@ -30,21 +30,10 @@ void printDriver(const GlContext& context) {
 size_t readCases(const std::string& path, std::vector<tools::BlendCase>& cases, std::vector<size_t>& lines) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read '" + path + "'");
-  std::string line;
-  size_t number = 0, bad = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (number == 1 || line.find_first_not_of(" \t\r") == std::string::npos) continue;  // header, blank
-    try {
-      cases.push_back(tools::parseBlendCsvLine(line));
-      lines.push_back(number);
-    } catch (const tools::BlendCsvError& e) {
-      std::cerr << path << ": line " << number << ", column " << e.column << " ("
-                << tools::kBlendCsvColumns[std::min(e.column, 19) - 1] << "): " << e.what() << "\n";
-      ++bad;
-    }
-  }
-  return bad;
+  return size_t(tools::forEachBlendCsvCase(in, std::cerr, path, [&](int lineNo, const std::string&, const tools::BlendCase& c) {
+    cases.push_back(c);
+    lines.push_back(size_t(lineNo));
+  }));
 }
 
 // Every case with GL's and oitref's stored destination and result bits, as CSV.

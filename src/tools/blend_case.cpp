@@ -1,5 +1,6 @@
 #include "tools/blend_case.h"
 
+#include <functional>
 #include <istream>
 #include <ostream>
 #include <sstream>
@@ -86,12 +87,11 @@ std::string formatBlendCsvLine(const std::string& inputLine, const BlendCase& c,
   return line;
 }
 
-int runBlendCsv(std::istream& in, std::ostream& out, std::ostream& err, const Profile& profile,
-                const std::string& sourceName) {
+int forEachBlendCsvCase(std::istream& in, std::ostream& err, const std::string& sourceName,
+                        const std::function<void(int, const std::string&, const BlendCase&)>& visit) {
   std::string line;
   int lineNo = 0, bad = 0;
   bool header = true;
-  out << blendCsvHeader(true) << "\n";
   while (std::getline(in, line)) {
     ++lineNo;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -101,8 +101,7 @@ int runBlendCsv(std::istream& in, std::ostream& out, std::ostream& err, const Pr
       if (line.rfind("format,", 0) == 0) continue;  // the header line
     }
     try {
-      const BlendCase c = parseBlendCsvLine(line);
-      out << formatBlendCsvLine(line, c, evaluate(c, profile)) << "\n";
+      visit(lineNo, line, parseBlendCsvLine(line));
     } catch (const BlendCsvError& e) {
       ++bad;
       err << sourceName << ": line " << lineNo << ", column " << e.column << " ("
@@ -110,6 +109,14 @@ int runBlendCsv(std::istream& in, std::ostream& out, std::ostream& err, const Pr
     }
   }
   return bad;
+}
+
+int runBlendCsv(std::istream& in, std::ostream& out, std::ostream& err, const Profile& profile,
+                const std::string& sourceName) {
+  out << blendCsvHeader(true) << "\n";
+  return forEachBlendCsvCase(in, err, sourceName, [&](int, const std::string& line, const BlendCase& c) {
+    out << formatBlendCsvLine(line, c, evaluate(c, profile)) << "\n";
+  });
 }
 
 }  // namespace oitref::tools

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
@@ -48,6 +49,12 @@ BlendCase parseBlendCsvLine(const std::string& line);
 std::string blendCaseCsvLine(const BlendCase& c);
 // The input columns of the case, then the outcome's columns.
 std::string formatBlendCsvLine(const std::string& inputLine, const BlendCase& c, const BlendOutcome& o);
+
+// Parses a CSV stream (header line optional, blank lines skipped) and calls `visit(line number,
+// line, case)` for each good line; reports each bad line to `err` as "SOURCE: line N, column C
+// (name): reason". Returns the number of bad lines.
+int forEachBlendCsvCase(std::istream& in, std::ostream& err, const std::string& sourceName,
+                        const std::function<void(int, const std::string&, const BlendCase&)>& visit);
 
 // Runs a whole CSV stream: results to `out`, one error per bad line to `err` ("line N, column C
 // (name): reason"). Returns the number of bad lines.
