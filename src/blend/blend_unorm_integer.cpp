@@ -4,12 +4,10 @@
 
 #include "blend/blend_factor.h"
 #include "blend/llvmpipe_factors.h"
+#include "format/packed_layout.h"
 
 namespace oitref::detail {
 namespace {
-
-constexpr int kRgb10a2Bits[4] = {10, 10, 10, 2};
-constexpr int kRgb10a2Shift[4] = {0, 10, 20, 30};
 
 // Channel ch of a factor: candidate row of blend_factor.h in w-bit integers, 1 − v as max − v.
 uint32_t factorInteger(BlendFactor f, int ch, const uint32_t s[4], const uint32_t d[4], uint32_t ad, const uint32_t c[4],
@@ -64,7 +62,7 @@ bool isLerpCase(const Format& f, const BlendState& st, unsigned& fs, unsigned& f
   return pipeComplementary(fs, fd);
 }
 
-int channelBits(const Format& f, int ch) { return f.id == FormatId::RGB10A2 ? kRgb10a2Bits[ch] : 8; }
+int channelBits(const Format& f, int ch) { return f.unormBits(ch); }
 
 // The stored n-bit codes of the texel (missing channels: 0, alpha max).
 void loadCodes(const Format& f, const uint8_t* texel, uint32_t codes[4]) {

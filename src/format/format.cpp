@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "format/fp16_inline.h"
+#include "format/packed_layout.h"
 #include "format/unorm_rescale.h"
 #include "oitref/unorm.h"
 
@@ -25,9 +26,9 @@ constexpr BuiltinFormat kBuiltins[] = {
     {"rgba32f", FormatId::RGBA32F, 4}, {"r11g11b10f", FormatId::R11G11B10F, 3},
 };
 
-constexpr int kRgb10a2Shift[4] = {0, 10, 20, 30};
-constexpr int kRgb10a2Bits[4] = {10, 10, 10, 2};
-constexpr int kF11F10Shift[3] = {0, 11, 22};
+using detail::kF11F10Shift;
+using detail::kRgb10a2Bits;
+using detail::kRgb10a2Shift;
 
 uint32_t loadWord(const uint8_t* p) {
   uint32_t w;
