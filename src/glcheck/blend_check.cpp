@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "glcheck/gl_format.h"
+#include "glcheck/gl_state.h"
 
 namespace oitref::glcheck {
 namespace {
@@ -78,9 +79,9 @@ std::vector<uint8_t> readBack(const GlFunctions& gl, const GlFormat& f, int heig
 }
 
 void setBlend(const GlFunctions& gl, const tools::BlendCase& c) {
-  gl.BlendEquationSeparatei(0, glBlendEquation(c.state.equationRgb), glBlendEquation(c.state.equationAlpha));
-  gl.BlendFuncSeparatei(0, glBlendFactor(c.state.srcRgb), glBlendFactor(c.state.dstRgb), glBlendFactor(c.state.srcAlpha),
-                        glBlendFactor(c.state.dstAlpha));
+  BlendState state = c.state;
+  state.enabled = true;
+  applyBlendState(gl, 0, state);
   gl.BlendColor(c.constant.r, c.constant.g, c.constant.b, c.constant.a);
 }
 
@@ -116,12 +117,11 @@ void runFormat(const GlContext& context, const std::vector<tools::BlendCase>& ca
     return bits;
   };
   // 1. Destinations, blending off: what the format stores for them.
-  gl.Disablei(GL_BLEND, 0);
+  applyBlendState(gl, 0, BlendState::disabled());
   upload(gl, objects.buffer, bitsOf(&tools::BlendCase::destination));
   gl.DrawArrays(GL_POINTS, 0, n);
   const std::vector<uint8_t> stored = readBack(gl, *glFormat, height, format.bytesPerTexel());
   // 2. Sources, blended: one draw per run of equal blend state and constant.
-  gl.Enablei(GL_BLEND, 0);
   upload(gl, objects.buffer, bitsOf(&tools::BlendCase::source));
   for (int first = 0; first < n;) {
     int last = first + 1;

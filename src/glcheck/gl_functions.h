@@ -23,6 +23,7 @@
   X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                              \
   X(PFNGLTEXSTORAGE2DPROC, TexStorage2D)                                                                \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                              \
+  X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)                                            \
   X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                          \
   X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                                    \
   X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                          \
@@ -63,6 +64,10 @@
   X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                                    \
   X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                          \
   X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                                    \
+  X(PFNGLDRAWELEMENTSPROC, DrawElements)                                                                \
+  X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                                  \
+  X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                          \
+  X(PFNGLCOPYIMAGESUBDATAPROC, CopyImageSubData)                                                        \
   X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                              \
   X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)
 

@@ -7,8 +7,12 @@
 
 #include "glcheck/blend_check.h"
 #include "glcheck/gl_context.h"
+#include "glcheck/gl_methods.h"
+#include "glcheck/scene_check.h"
 #include "tools/blend_case_generator.h"
 #include "tools/commands.h"
+#include "tools/number_parse.h"
+#include "tools/suite.h"
 
 namespace oitref::glcheck {
 namespace {
@@ -90,6 +94,34 @@ int runBlendCheck(const BlendCheckOptions& o) {
   return (s.destinationMismatches || s.resultMismatches || bad) ? 1 : 0;
 }
 
+struct SceneCheckCommand {
+  SceneCheckOptions options;
+  std::string size = "160x90", methods;
+};
+
+int runSceneCheckCommand(SceneCheckCommand& c) {
+  SceneCheckOptions& o = c.options;
+  if (o.scenes.empty()) o.scenes = tools::sceneFiles("scenes");
+  if (o.scenes.empty()) throw std::invalid_argument("no scenes given and none in ./scenes");
+  if (!c.size.empty() && c.size != "scene") tools::parseSize(c.size, "--size", o.width, o.height);
+  o.methods.clear();
+  for (size_t start = 0; start < c.methods.size();) {
+    const size_t comma = c.methods.find(',', start);
+    const std::string name = c.methods.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (!name.empty()) o.methods.push_back(name);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  GlContext context;
+  printDriver(context);
+  std::cout << "\n";
+  const std::vector<SceneCheckRow> rows = runSceneCheck(context, o, std::cout);
+  size_t failed = 0;
+  for (const SceneCheckRow& r : rows) failed += !r.pass;
+  std::cout << rows.size() - failed << " of " << rows.size() << " scene × method pairs within tolerance\n";
+  return failed ? 1 : 0;
+}
+
 }  // namespace
 }  // namespace oitref::glcheck
 
@@ -110,6 +142,24 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
   blend->add_option("--profile", b->profile, "oitref profile to compare with")->capture_default_str();
   blend->add_option("--list", b->list, "How many mismatches to list")->capture_default_str();
   blend->callback([b, &exitCode] { exitCode = runReportingErrors("glcheck blend", [&] { return glcheck::runBlendCheck(*b); }); });
+
+  auto s = std::make_shared<glcheck::SceneCheckCommand>();
+  std::string methodList;
+  for (const std::string& m : glcheck::glMethodNames()) methodList += (methodList.empty() ? "" : ",") + m;
+  CLI::App* scene = cmd->add_subcommand(
+      "scene", "Scenes rendered by each method's GL version and by oitref; exit 1 when a method is out of tolerance");
+  scene->add_option("scenes", s->options.scenes, "Scene files (default: every scenes/*.json)");
+  scene->add_option("--methods", s->methods, "Comma-separated methods (default: " + methodList + ")");
+  scene->add_option("--size", s->size, "Resolution WxH, or 'scene' for the scene's own")->capture_default_str();
+  scene->add_option("--profile", s->options.profile, "oitref profile to compare with")->capture_default_str();
+  scene->add_option("--tolerance", s->options.tolerance, "Per-pixel error allowed on the RGBA8 image (default 1.5/255: one step passes, two fail)");
+  scene->add_option("--min-share", s->options.minShare, "Share of pixels within tolerance a method needs")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  scene->add_option("--heatmaps", s->options.heatmaps, "Write GL and oitref images and error heatmaps into this folder");
+  scene->callback([s, &exitCode] {
+    exitCode = runReportingErrors("glcheck scene", [&] { return glcheck::runSceneCheckCommand(*s); });
+  });
 
 }
 

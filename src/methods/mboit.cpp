@@ -101,7 +101,7 @@ class Mboit final : public Method {
       return float(-detLog(1.0 - double(std::min(alpha, 1.0f - 0x1p-20f))));
     };
 
-    const PipelineState additive = transparentState(context.profile, BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One));
+    const PipelineState additive = transparentState(context.profile, additiveBlend());
     Framebuffer momentFb;
     momentFb.color[0] = &b0Image;
     momentFb.color[1] = &moments;
@@ -115,7 +115,7 @@ class Mboit final : public Method {
     });
 
     PipelineState st = additive;
-    st.blend[1] = BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);
+    st.blend[1] = revealageBlend();
     Framebuffer fb;
     fb.color[0] = &accum;
     fb.color[1] = &reveal;

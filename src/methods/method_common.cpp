@@ -123,9 +123,7 @@ void PassRunner::blendOverBackground(FrameTargets& targets,
   Framebuffer out = targets.present(false);
   PipelineState composite;
   composite.profile = context_.profile;
-  composite.blend[0] = composite.blend[1] = BlendState::separate(
-      BlendEquation::Add, BlendEquation::Add, BlendFactor::OneMinusSrcAlpha, BlendFactor::SrcAlpha, BlendFactor::Zero,
-      BlendFactor::One);
+  composite.blend[0] = composite.blend[1] = compositeBlend();
   fullscreenPass("composite", out, composite, [&](const FragmentInput& in, FragmentOutput& o) {
     glm::vec4 s;
     if (!source(in, s)) return;
@@ -137,6 +135,27 @@ void PassRunner::blendOverBackground(FrameTargets& targets,
 BlendState overBlend() {
   return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
                               BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);
+}
+
+BlendState additiveBlend() { return BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One); }
+
+BlendState revealageBlend() {
+  return BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);
+}
+
+BlendState compositeBlend() {
+  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::OneMinusSrcAlpha,
+                              BlendFactor::SrcAlpha, BlendFactor::Zero, BlendFactor::One);
+}
+
+BlendState underBlend() {
+  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::DstAlpha, BlendFactor::One,
+                              BlendFactor::Zero, BlendFactor::OneMinusSrcAlpha);
+}
+
+BlendState premultipliedOntoBackgroundBlend() {
+  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One, BlendFactor::SrcAlpha,
+                              BlendFactor::Zero, BlendFactor::One);
 }
 
 DepthState transparentDepth() { return {true, CompareFunc::Less, false, false}; }

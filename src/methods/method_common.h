@@ -88,8 +88,17 @@ inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
   return {glm::vec3(accum) / std::clamp(accum.a, 1e-4f, 5e4f), reveal};
 }
 
-// The blend state a method composites with, and GL's OVER.
-BlendState overBlend();  // src_alpha, one_minus_src_alpha; alpha one, one_minus_src_alpha
+// The blend states of the methods, named once so the emulated passes and their GL mirrors
+// (glcheck) use the same objects.
+BlendState overBlend();       // OVER: src_alpha, one_minus_src_alpha; alpha one, one_minus_src_alpha
+BlendState additiveBlend();   // Σ: one, one
+BlendState revealageBlend();  // Π(1 − α): zero, one_minus_src_color
+// C = C_s·(1 − α_s) + C_d·α_s, alpha kept: one_minus_src_alpha, src_alpha; alpha zero, one.
+BlendState compositeBlend();
+// Front-to-back "under" (peeling): RGB C_s·α_d + C_d, alpha α_d·(1 − α_s): dst_alpha, one; zero, one_minus_src_alpha.
+BlendState underBlend();
+// Premultiplied layers onto the background: C_s + C_d·α_s, alpha kept: one, src_alpha; zero, one.
+BlendState premultipliedOntoBackgroundBlend();
 // Depth state of the transparent passes: test LESS against the opaque depth, no writes.
 DepthState transparentDepth();
 // A transparent pass's state: the profile, transparentDepth(), and `blend` on targets 0 and 1.

@@ -47,8 +47,7 @@ class Peel final : public Method {
     accumFb.color[0] = &accum;
     PipelineState under;
     under.profile = context.profile;
-    under.blend[0] = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::DstAlpha, BlendFactor::One,
-                                          BlendFactor::Zero, BlendFactor::OneMinusSrcAlpha);  // steps 8–10
+    under.blend[0] = underBlend();  // steps 8–10
     int peeledPasses = 0;
     bool exhausted = false;
     for (int pass = 0; pass < passes_; ++pass) {                    // step 4
@@ -72,8 +71,7 @@ class Peel final : public Method {
     Framebuffer out = t.present(false);
     PipelineState merge;
     merge.profile = context.profile;
-    merge.blend[0] = merge.blend[1] = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One,
-                                                           BlendFactor::SrcAlpha, BlendFactor::Zero, BlendFactor::One);
+    merge.blend[0] = merge.blend[1] = premultipliedOntoBackgroundBlend();
     run.fullscreenPass("merge", out, merge, [&](const FragmentInput& in, FragmentOutput& o) {
       const glm::vec4 c = accum.fetch(in.x, in.y);
       o.write(0, c);

@@ -41,7 +41,7 @@ class Wavg final : public Method {
     fb.color[0] = &accum;
     fb.color[1] = &count;
     fb.depth = &t.depth("depth");                                   // step 6
-    const PipelineState st = transparentState(context.profile, BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One));  // steps 7–8
+    const PipelineState st = transparentState(context.profile, additiveBlend());  // steps 7–8
     run.transparentPass("accumulate", fb, st, [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
       out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));             // step 9: S_accum
       out.write(1, glm::vec4(1.0f));

@@ -71,8 +71,8 @@ class Wboit final : public Method {
     fb.color[0] = &accum;
     fb.color[1] = &reveal;
     fb.depth = &t.depth("depth");
-    PipelineState st = transparentState(context.profile, BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One));  // steps 7, 11
-    st.blend[1] = BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);  // step 10
+    PipelineState st = transparentState(context.profile, additiveBlend());  // steps 7, 11
+    st.blend[1] = revealageBlend();  // step 10
     const Weight kind = weight_;
     const bool adaptive = adaptive_;
     run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {

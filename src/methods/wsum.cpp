@@ -29,7 +29,7 @@ class Wsum final : public Method {
     Framebuffer fb;                                       // step 5: D2 ← D1 (the same depth)
     fb.color[0] = &accum;
     fb.depth = &t.depth("depth");
-    const PipelineState st = transparentState(context.profile, BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One));  // steps 6–8
+    const PipelineState st = transparentState(context.profile, additiveBlend());  // steps 6–8
     run.transparentPass("accumulate", fb, st, [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
       out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));   // step 9
     });

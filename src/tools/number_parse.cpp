@@ -1,5 +1,7 @@
 #include "tools/number_parse.h"
 
+#include "oitref/image.h"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -36,6 +38,18 @@ glm::vec4 parseVec4(const std::string& text, const std::string& what) {
   }
   if (i != 4) throw std::invalid_argument(what + ": expected 4 components r,g,b,a, got " + std::to_string(i));
   return v;
+}
+
+void parseSize(const std::string& text, const std::string& what, int& width, int& height) {
+  int w = 0, h = 0;
+  char x = 0;
+  std::string rest;
+  std::istringstream in(text);
+  if (!(in >> w >> x >> h) || x != 'x' || (in >> rest) || w < 1 || h < 1 || w > Image::kMaxDimension ||
+      h > Image::kMaxDimension)
+    throw std::invalid_argument(what + " '" + text + "': expected WxH with 1 ≤ W, H ≤ " +
+                                std::to_string(Image::kMaxDimension));
+  width = w, height = h;
 }
 
 std::string hexFloat(float value) {

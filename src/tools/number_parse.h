@@ -13,6 +13,9 @@ namespace oitref::tools {
 std::optional<float> parseFloatExact(const std::string& text);
 // "r,g,b,a" -> vec4. Throws std::invalid_argument naming `what` and the bad component.
 glm::vec4 parseVec4(const std::string& text, const std::string& what);
+// "WxH" -> width, height with 1 ≤ W, H ≤ Image::kMaxDimension. Throws std::invalid_argument
+// naming `what` (e.g. "--size").
+void parseSize(const std::string& text, const std::string& what, int& width, int& height);
 // Hex float that round-trips ("0x1.8p-3", "0x0p+0", "nan", "-inf").
 std::string hexFloat(float value);
 

@@ -10,6 +10,7 @@
 #include "oitref/method.h"
 #include "tools/commands.h"
 #include "tools/image_io.h"
+#include "tools/number_parse.h"
 
 namespace oitref::tools {
 namespace {
@@ -40,14 +41,7 @@ int runRender(const RenderOptions& o) {
   std::unique_ptr<Method> method = makeMethod(o.method, options);
   const MethodOptions resolved(method->info(), options);
   Scene scene = loadScene(o.scene);
-  if (!o.size.empty()) {
-    int w = 0, h = 0;
-    char x = 0;
-    std::istringstream in(o.size);
-    if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1 || w > 16384 || h > 16384)
-      throw std::invalid_argument("--size '" + o.size + "': expected WxH with 1 ≤ W, H ≤ 16384");
-    scene.width = w, scene.height = h;
-  }
+  if (!o.size.empty()) parseSize(o.size, "--size", scene.width, scene.height);
   const Profile profile = parseProfile(o.profile);
   const SceneGeometry geometry = buildSceneGeometry(scene);
   Renderer renderer(RendererOptions{o.threads, 64});

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "tools/commands.h"
+#include "tools/number_parse.h"
 #include "tools/suite.h"
 
 namespace oitref::tools {
@@ -32,11 +33,7 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
     exitCode = runReportingErrors("suite", [&] {
       std::vector<std::string> scenes = o->scenes.empty() ? sceneFiles("scenes") : o->scenes;
       int w = 0, h = 0;
-      if (!o->size.empty()) {
-        char x = 0;
-        std::istringstream in(o->size);
-        if (!(in >> w >> x >> h) || x != 'x' || w < 1 || h < 1) throw std::invalid_argument("--size: expected WxH");
-      }
+      if (!o->size.empty()) parseSize(o->size, "--size", w, h);
       Renderer renderer(RendererOptions{o->threads, 64});
       const Profile profile = parseProfile(o->profile);
       std::printf("oitref suite: %zu scenes, threads %d, profile %s\n\n", scenes.size(), renderer.threads(), profile.name.c_str());

@@ -1,0 +1,310 @@
+#include "glcheck/gl_frame.h"
+
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "glcheck/gl_format.h"
+#include "glcheck/gl_state.h"
+#include "methods/method_common.h"
+
+namespace oitref::glcheck {
+namespace {
+
+// Clip position, colour and quad uv, passed through (the vertex stage already ran in oitref).
+const char* kSceneVertexShader = R"(#version 430 core
+layout(location = 0) in vec4 clipPosition;
+layout(location = 1) in vec4 colour;
+layout(location = 2) in vec2 uv;
+out vec4 vColour;
+out vec2 vUv;
+void main() {
+  gl_Position = clipPosition;
+  vColour = colour;
+  vUv = uv;
+})";
+
+// One triangle over the whole viewport (drawFullscreen).
+const char* kFullscreenVertexShader = R"(#version 430 core
+out vec4 vColour;
+out vec2 vUv;
+void main() {
+  gl_Position = vec4(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0, 0.0, 1.0);
+  vColour = vec4(0.0);
+  vUv = vec2(0.0);
+})";
+
+// Mirrors oitref::shadeSurface (scene_geometry.cpp), methods/power.h and FragmentInput's depths
+// (viewDepth is clip w: 1 / gl_FragCoord.w).
+const char* kFragmentPrelude = R"(
+in vec4 vColour;
+in vec2 vUv;
+uniform bool particles;
+vec4 shadeSurface() {
+  vec4 c = vColour;
+  if (particles) {
+    float x = 2.0 * vUv.x - 1.0, y = 2.0 * vUv.y - 1.0;
+    float r2 = x * x + y * y;
+    c.a = c.a * (r2 < 1.0 ? (1.0 - r2) * (1.0 - r2) : 0.0);
+  }
+  return c;
+}
+float powInt(float x, uint n) {
+  float r = 1.0;
+  while (n != 0u) {
+    if ((n & 1u) != 0u) r *= x;
+    x *= x;
+    n >>= 1u;
+  }
+  return r;
+}
+vec4 fetch(sampler2D s) { return texelFetch(s, ivec2(gl_FragCoord.xy), 0); }
+float windowDepth() { return gl_FragCoord.z; }
+float viewDepth() { return 1.0 / gl_FragCoord.w; }
+)";
+
+GLenum depthInternalFormat(DepthFormat f) {
+  switch (f) {
+    case DepthFormat::D16: return GL_DEPTH_COMPONENT16;
+    case DepthFormat::D24: return GL_DEPTH_COMPONENT24;
+    case DepthFormat::D32F: return GL_DEPTH_COMPONENT32F;
+  }
+  return GL_DEPTH_COMPONENT24;
+}
+
+}  // namespace
+
+std::string glslFloat(float value) {
+  uint32_t bits;
+  std::memcpy(&bits, &value, 4);
+  char text[40];
+  std::snprintf(text, sizeof text, "uintBitsToFloat(0x%08xu)", bits);
+  return text;
+}
+
+GlFrame::GlFrame(const GlContext& context, const FrameContext& frame, const std::vector<AttachmentDecl>& attachments)
+    : context_(context), gl_(context.gl()), frame_(frame) {
+  std::vector<AttachmentDecl> all = attachments;
+  all.push_back(methods::colorAttachment("analysis", "rgba32f", "oitref's RGBA32F analysis copy"));
+  for (const AttachmentDecl& a : all) {
+    Texture t;
+    t.isDepth = a.isDepth;
+    t.format = a.format;
+    GLenum internal = depthInternalFormat(a.depthFormat);
+    if (!a.isDepth) {
+      const auto f = glFormatOf(a.format);
+      if (!f) throw std::invalid_argument("attachment '" + a.name + "': format " + a.format.name() + " has no OpenGL equivalent");
+      internal = f->internalFormat;
+    }
+    gl_.GenTextures(1, &t.id);
+    gl_.BindTexture(GL_TEXTURE_2D, t.id);
+    gl_.TexStorage2D(GL_TEXTURE_2D, 1, internal, frame.width, frame.height);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    textures_[a.name] = t;
+  }
+  const glm::mat4 vp = frame.scene.camera.projection(float(frame.width) / float(frame.height)) * frame.scene.camera.view();
+  for (const ScenePart& sp : frame.geometry.parts) {
+    const Geometry g = toClipGeometry(sp, vp);
+    std::vector<float> interleaved;
+    interleaved.reserve(g.vertexCount() * 10);
+    for (size_t v = 0; v < g.vertexCount(); ++v) {
+      for (int k = 0; k < 4; ++k) interleaved.push_back(g.clipPositions[v][k]);
+      const float* a = g.vertexAttributes(uint32_t(v));
+      interleaved.insert(interleaved.end(), a, a + kSceneAttributeCount);
+    }
+    Part p;
+    p.transparent = sp.transparent;
+    p.particles = frame.scene.objects[sp.objectIndex].type == ObjectType::Particles;
+    p.indexCount = GLsizei(g.indices.size());
+    gl_.GenVertexArrays(1, &p.vao);
+    gl_.BindVertexArray(p.vao);
+    gl_.GenBuffers(1, &p.vertices);
+    gl_.BindBuffer(GL_ARRAY_BUFFER, p.vertices);
+    gl_.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(interleaved.size() * 4), interleaved.data(), GL_STATIC_DRAW);
+    const GLsizei stride = 10 * 4;
+    gl_.VertexAttribPointer(0, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(0));
+    gl_.VertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(16));
+    gl_.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(32));
+    for (GLuint i = 0; i < 3; ++i) gl_.EnableVertexAttribArray(i);
+    gl_.GenBuffers(1, &p.indices);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, p.indices);
+    gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(g.indices.size() * 4), g.indices.data(), GL_STATIC_DRAW);
+    parts_.push_back(p);
+  }
+  gl_.GenVertexArrays(1, &emptyVao_);
+  gl_.BindVertexArray(0);
+  gl_.Disable(GL_DITHER);  // on by default in GL (§17.3.8); oitref has none
+  gl_.Disable(GL_FRAMEBUFFER_SRGB);
+  gl_.Disable(GL_CULL_FACE);
+  gl_.Viewport(0, 0, frame.width, frame.height);
+  context_.check("setting up the frame");
+}
+
+GlFrame::~GlFrame() {
+  for (auto& [key, fb] : framebuffers_) gl_.DeleteFramebuffers(1, &fb);
+  for (auto& [key, p] : programs_) gl_.DeleteProgram(p);
+  for (auto& [name, t] : textures_) gl_.DeleteTextures(1, &t.id);
+  for (Part& p : parts_) {
+    gl_.DeleteBuffers(1, &p.vertices);
+    gl_.DeleteBuffers(1, &p.indices);
+    gl_.DeleteVertexArrays(1, &p.vao);
+  }
+  gl_.DeleteVertexArrays(1, &emptyVao_);
+}
+
+const GlFrame::Texture& GlFrame::texture(const std::string& name) const {
+  const auto it = textures_.find(name);
+  if (it == textures_.end()) throw std::logic_error("GL method uses undeclared attachment '" + name + "'");
+  return it->second;
+}
+
+void GlFrame::bindTargets(const std::vector<std::string>& colours, const std::string& depth) {
+  std::string key = depth;
+  for (const std::string& c : colours) key += "|" + c;
+  GLuint& fb = framebuffers_[key];
+  if (fb == 0) {
+    gl_.GenFramebuffers(1, &fb);
+    gl_.BindFramebuffer(GL_FRAMEBUFFER, fb);
+    std::vector<GLenum> buffers;
+    for (size_t i = 0; i < colours.size(); ++i) {
+      const Texture& t = texture(colours[i]);
+      if (t.isDepth) throw std::logic_error("'" + colours[i] + "' is a depth attachment");
+      gl_.FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D, t.id, 0);
+      buffers.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
+    }
+    if (!depth.empty()) gl_.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, texture(depth).id, 0);
+    if (buffers.empty()) gl_.DrawBuffers(0, nullptr);
+    else gl_.DrawBuffers(GLsizei(buffers.size()), buffers.data());
+    if (!colours.empty()) gl_.ReadBuffer(GL_COLOR_ATTACHMENT0);
+    if (gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("framebuffer " + key + " is not complete");
+  }
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, fb);
+}
+
+void GlFrame::clear(const std::string& colour, const glm::vec4& value) {
+  bindTargets({colour}, "");
+  applyBlendState(gl_, 0, BlendState::disabled());  // restores the colour mask
+  gl_.ClearBufferfv(GL_COLOR, 0, &value[0]);
+}
+
+void GlFrame::clearDepth(const std::string& depth, float value) {
+  bindTargets({}, depth);
+  gl_.DepthMask(GL_TRUE);
+  gl_.ClearBufferfv(GL_DEPTH, 0, &value);
+}
+
+void GlFrame::addScratch(const std::string& name, const std::string& like) {
+  const Texture& model = texture(like);
+  Texture t = model;
+  GLint internal = 0;
+  gl_.BindTexture(GL_TEXTURE_2D, model.id);
+  gl_.GetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_INTERNAL_FORMAT, &internal);
+  gl_.GenTextures(1, &t.id);
+  gl_.BindTexture(GL_TEXTURE_2D, t.id);
+  gl_.TexStorage2D(GL_TEXTURE_2D, 1, GLenum(internal), frame_.width, frame_.height);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  textures_[name] = t;
+}
+
+void GlFrame::copy(const std::string& from, const std::string& to) {
+  gl_.CopyImageSubData(texture(from).id, GL_TEXTURE_2D, 0, 0, 0, 0, texture(to).id, GL_TEXTURE_2D, 0, 0, 0, 0,
+                       frame_.width, frame_.height, 1);
+  context_.check(("copying " + from + " to " + to).c_str());
+}
+
+Image GlFrame::read(const std::string& colour) {
+  const Texture& t = texture(colour);
+  const auto f = glFormatOf(t.format);
+  Image image(t.format, frame_.width, frame_.height);
+  bindTargets({colour}, "");
+  gl_.PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl_.ReadPixels(0, 0, frame_.width, frame_.height, f->readFormat, f->readType, image.texel(0, 0));
+  context_.check(("reading " + colour).c_str());
+  return image;
+}
+
+GLuint GlFrame::program(const std::string& vertex, const std::string& main, size_t colourCount,
+                        const std::vector<GlInput>& inputs) {
+  std::string source = "#version 430 core\n";
+  for (size_t i = 0; i < colourCount; ++i)
+    source += "layout(location = " + std::to_string(i) + ") out vec4 o" + std::to_string(i) + ";\n";
+  for (const GlInput& in : inputs) source += "uniform sampler2D " + in.sampler + ";\n";
+  source += kFragmentPrelude;
+  source += main;
+  GLuint& p = programs_[vertex + source];
+  if (p == 0) p = linkProgram(gl_, vertex, source);
+  gl_.UseProgram(p);
+  return p;
+}
+
+void GlFrame::bindInputs(GLuint program, const std::vector<GlInput>& inputs) {
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    gl_.ActiveTexture(GLenum(GL_TEXTURE0 + i));
+    gl_.BindTexture(GL_TEXTURE_2D, texture(inputs[i].attachment).id);
+    gl_.Uniform1i(gl_.GetUniformLocation(program, inputs[i].sampler.c_str()), GLint(i));
+  }
+}
+
+void GlFrame::drawParts(GLuint program, bool transparent, bool everything) {
+  const GLint particles = gl_.GetUniformLocation(program, "particles");
+  for (const Part& p : parts_) {
+    if (p.transparent != transparent && !everything) continue;
+    gl_.Uniform1i(particles, p.particles ? 1 : 0);
+    gl_.BindVertexArray(p.vao);
+    gl_.DrawElements(GL_TRIANGLES, p.indexCount, GL_UNSIGNED_INT, nullptr);
+  }
+  gl_.BindVertexArray(0);
+}
+
+void GlFrame::opaquePass(bool everything) {
+  const glm::vec4 background(frame_.scene.background, 1.0f);
+  clear("opaque", background);
+  clear("analysis", background);
+  clearDepth("depth", 1.0f);
+  PipelineState st;
+  st.depth = {true, CompareFunc::Less, true, false};
+  bindTargets({"opaque", "analysis"}, "depth");
+  applyPipelineState(gl_, st, 2);
+  const GLuint p = program(kSceneVertexShader, R"(
+void main() {
+  vec4 c = shadeSurface();
+  o0 = vec4(c.rgb, 1.0);
+  o1 = vec4(c.rgb, 1.0);
+})", 2, {});
+  drawParts(p, false, everything);
+  context_.check("opaque pass");
+}
+
+void GlFrame::transparentPass(const std::string& main, const std::vector<std::string>& colours, const std::string& depth,
+                              const PipelineState& state, const std::vector<GlInput>& inputs) {
+  bindTargets(colours, depth);
+  applyPipelineState(gl_, state, int(colours.size()));
+  const GLuint p = program(kSceneVertexShader, main, colours.size(), inputs);
+  bindInputs(p, inputs);
+  drawParts(p, true, false);
+  context_.check("transparent pass");
+}
+
+void GlFrame::fullscreenPass(const std::string& main, const std::vector<std::string>& colours, const PipelineState& state,
+                             const std::vector<GlInput>& inputs) {
+  bindTargets(colours, "");
+  applyPipelineState(gl_, state, int(colours.size()));
+  const GLuint p = program(kFullscreenVertexShader, main, colours.size(), inputs);
+  bindInputs(p, inputs);
+  gl_.Uniform1i(gl_.GetUniformLocation(p, "particles"), 0);
+  gl_.BindVertexArray(emptyVao_);
+  gl_.DrawArrays(GL_TRIANGLES, 0, 3);
+  gl_.BindVertexArray(0);
+  context_.check("full-screen pass");
+}
+
+void GlFrame::blendOverBackground(const std::string& main, const std::vector<GlInput>& inputs) {
+  PipelineState composite;
+  composite.blend[0] = composite.blend[1] = methods::compositeBlend();
+  fullscreenPass(main, {"opaque", "analysis"}, composite, inputs);
+}
+
+}  // namespace oitref::glcheck

@@ -1,0 +1,288 @@
+#include "glcheck/gl_methods.h"
+
+#include <map>
+
+#include "methods/det_math.h"
+#include "methods/method_common.h"
+
+namespace oitref::glcheck {
+namespace {
+
+using methods::additiveBlend;
+using methods::overBlend;
+using methods::revealageBlend;
+using methods::transparentState;
+
+PipelineState plainState() { return PipelineState{}; }
+
+// opaque.cpp: everything drawn opaque.
+std::string opaque(GlFrame& f, const MethodOptions&) {
+  f.opaquePass(/*everything=*/true);
+  return "opaque";
+}
+
+// over.cpp: OVER in submission order onto the background.
+std::string over(GlFrame& f, const MethodOptions&) {
+  f.opaquePass();
+  f.transparentPass(R"(
+void main() {
+  vec4 c = shadeSurface();
+  o0 = c;
+  o1 = c;
+})",
+                    {"opaque", "analysis"}, "depth", transparentState(f.context().profile, overBlend()));
+  return "opaque";
+}
+
+// wsum.cpp: Σ(c·α, α), then C_f = C2.rgb + C1.rgb·(1 − C2.a) into "final".
+std::string wsum(GlFrame& f, const MethodOptions&) {
+  f.opaquePass();
+  f.clear("accum", glm::vec4(0.0f));
+  f.transparentPass(R"(
+void main() {
+  vec4 c = shadeSurface();
+  o0 = vec4(c.rgb * c.a, c.a);
+})",
+                    {"accum"}, "depth", transparentState(f.context().profile, additiveBlend()));
+  f.addScratch("analysis_in", "analysis");  // the composite writes the analysis copy it reads
+  f.copy("analysis", "analysis_in");
+  f.fullscreenPass(R"(
+void main() {
+  vec4 sum = fetch(accum);
+  float background = 1.0 - sum.a;
+  vec3 c1 = fetch(opaque).rgb, c0 = fetch(analysisIn).rgb;
+  o0 = vec4(sum.rgb + c1 * background, 1.0);
+  o1 = vec4(sum.rgb + c0 * background, 1.0);
+})",
+                   {"final", "analysis"}, plainState(),
+                   {{"accum", "accum"}, {"opaque", "opaque"}, {"analysisIn", "analysis_in"}});
+  return "final";
+}
+
+// wavg.cpp: Σ(c·α, α) and n; (Σcα / max(Σα, 1e-4), T) over the background.
+std::string wavg(GlFrame& f, const MethodOptions& o) {
+  f.opaquePass();
+  f.clear("accum", glm::vec4(0.0f));
+  f.clear("count", glm::vec4(0.0f));
+  f.transparentPass(R"(
+void main() {
+  vec4 c = shadeSurface();
+  o0 = vec4(c.rgb * c.a, c.a);
+  o1 = vec4(1.0);
+})",
+                    {"accum", "count"}, "depth", transparentState(f.context().profile, additiveBlend()));
+  const bool thesis = o.text("transmittance") == "thesis_eq2.2";
+  f.blendOverBackground(std::string(R"(
+void main() {
+  float n = fetch(count).r;
+  if (n == 0.0) discard;
+  vec4 a = fetch(accum);
+  float meanAlpha = a.a / n;
+  uint layers = uint(n);
+  float tr = )") + (thesis ? "powInt(meanAlpha, layers)" : "powInt(max(0.0, 1.0 - meanAlpha), layers)") + R"(;
+  vec4 s = vec4(a.rgb / max(a.a, )" + glslFloat(1e-4f) + R"(), tr);
+  o0 = s;
+  o1 = s;
+})",
+                        {{"count", "count"}, {"accum", "accum"}});
+  return "opaque";
+}
+
+// wboit.cpp's w(z, α), as GLSL on (alpha, windowZ, viewZ).
+std::string wboitWeight(const std::string& kind) {
+  const std::map<std::string, std::string> w = {
+      {"one", "1.0"},
+      {"z3", "1.0 / powInt(windowZ, 3u)"},
+      {"z5", "1.0 / powInt(windowZ, 5u)"},
+      {"az3", "alpha / powInt(windowZ, 3u)"},
+      {"az5", "alpha / powInt(windowZ, 5u)"},
+      {"mb7", "alpha * clamp(10.0 / (E5 + powInt(viewZ / 5.0, 2u) + powInt(viewZ / 200.0, 6u)), E2, 3000.0)"},
+      {"mb8", "alpha * clamp(10.0 / (E5 + powInt(viewZ / 10.0, 3u) + powInt(viewZ / 200.0, 6u)), E2, 3000.0)"},
+      {"mb9", "alpha * clamp(C003 / (E5 + powInt(viewZ / 200.0, 4u)), E2, 3000.0)"},
+      {"mb10", "alpha * max(E2, 3000.0 * powInt(1.0 - windowZ, 3u))"}};
+  return "const float E5 = " + glslFloat(1e-5f) + ", E2 = " + glslFloat(1e-2f) + ", C003 = " + glslFloat(0.03f) +
+         ";\nfloat weight(float alpha, float windowZ, float viewZ) { return " + w.at(kind) + "; }\n";
+}
+
+// weightedResolve (method_common.h): accum.rgb / clamp(accum.a, 1e-4, 5e4), revealage.
+std::string weightedResolveMain() {
+  return R"(
+void main() {
+  vec4 a = fetch(accum);
+  vec4 s = vec4(a.rgb / clamp(a.a, )" +
+         glslFloat(1e-4f) + R"(, 50000.0), fetch(reveal).r);
+  o0 = s;
+  o1 = s;
+})";
+}
+
+// wboit.cpp: accum += (c·α·w, α·w), reveal *= (1 − α), resolve over the background.
+std::string wboit(GlFrame& f, const MethodOptions& o) {
+  f.opaquePass();
+  f.clear("reveal", glm::vec4(1.0f));
+  f.clear("accum", glm::vec4(0.0f));
+  PipelineState st = transparentState(f.context().profile, additiveBlend());
+  st.blend[1] = revealageBlend();
+  const bool adaptive = o.flag("adaptive");
+  std::vector<GlInput> inputs;
+  if (adaptive) {  // reads the opaque depth it tests against
+    f.addScratch("depth_in", "depth");
+    f.copy("depth", "depth_in");
+    inputs.push_back({"opaqueDepth", "depth_in"});
+  }
+  f.transparentPass(wboitWeight(o.text("weight")) + R"(
+void main() {
+  vec4 c = shadeSurface();
+  float z = windowDepth();
+)" + (adaptive ? "  z = z / fetch(opaqueDepth).r;\n" : "") + R"(
+  float w = weight(c.a, z, viewDepth());
+  o0 = vec4(c.rgb * c.a * w, c.a * w);
+  o1 = vec4(c.a);
+})",
+                    {"accum", "reveal"}, "depth", st, inputs);
+  f.blendOverBackground(weightedResolveMain(), {{"accum", "accum"}, {"reveal", "reveal"}});
+  return "opaque";
+}
+
+// mboit.cpp's depth warp into [−1, 1] and mboitAbsorbance, as GLSL. ln and exp are the
+// driver's fp32 log/exp (mboit.cpp uses det_math.h's in double): the one place the GL version
+// cannot say exactly what the C++ says.
+std::string mboitFunctions(const MethodOptions& o, const Camera& camera) {
+  const bool logWarp = o.text("warp") == "log";
+  const float logRange = float(methods::detLog(double(camera.farPlane) / double(camera.nearPlane)));
+  return "const float BIAS = " + glslFloat(float(o.number("bias"))) + ", OVERESTIMATION = " +
+         glslFloat(float(o.number("overestimation"))) + ", NEAR = " + glslFloat(camera.nearPlane) +
+         ", LOG_RANGE = " + glslFloat(logRange) + ", ALPHA_MAX = " + glslFloat(1.0f - 0x1p-20f) + ";\n" +
+         (logWarp ? "float warp() { return 2.0 * log(viewDepth() / NEAR) / LOG_RANGE - 1.0; }\n"
+                  : "float warp() { return 2.0 * windowDepth() - 1.0; }\n") +
+         R"(
+float absorbance(vec4 b, float z) {
+  vec4 m = (1.0 - BIAS) * b + BIAS * vec4(0.0, 0.375, 0.0, 0.375);
+  float d11 = m[1] - m[0] * m[0];
+  float l21d11 = m[2] - m[0] * m[1];
+  if (!(d11 > 0.0)) return OVERESTIMATION;
+  float l21 = l21d11 / d11;
+  float d22 = (m[3] - m[1] * m[1]) - l21d11 * l21;
+  if (!(d22 > 0.0)) return OVERESTIMATION;
+  float c0 = 1.0, c1 = z - m[0], c2 = z * z - m[1] - l21 * c1;
+  c1 = c1 / d11;
+  c2 = c2 / d22;
+  c1 = c1 - l21 * c2;
+  c0 = c0 - (c1 * m[0] + c2 * m[1]);
+  float p = c1 / c2, q = c0 / c2;
+  float disc = p * p * 0.25 - q;
+  float r = sqrt(disc);
+  float z1 = -p * 0.5 - r, z2 = -p * 0.5 + r;
+  if (isnan(z1) || isinf(z1) || isnan(z2) || isinf(z2)) return OVERESTIMATION;
+  float f0 = OVERESTIMATION, f1 = z1 < z ? 1.0 : 0.0, f2 = z2 < z ? 1.0 : 0.0;
+  float f01 = (f1 - f0) / (z1 - z);
+  float f12 = (f2 - f1) / (z2 - z1);
+  float f012 = (f12 - f01) / (z2 - z);
+  float a2 = f012;
+  float a1 = f01 - f012 * (z + z1);
+  float a0 = f0 - f01 * z + f012 * z * z1;
+  float result = a0 + a1 * m[0] + a2 * m[1];
+  return (isnan(result) || isinf(result)) ? OVERESTIMATION : result;
+}
+)";
+}
+
+// mboit.cpp: moments of −ln(1 − α), then WBOIT-style accumulation with w = T(z), resolve.
+std::string mboit(GlFrame& f, const MethodOptions& o) {
+  f.opaquePass();
+  f.clear("b0", glm::vec4(0.0f));
+  f.clear("moments", glm::vec4(0.0f));
+  f.clear("accum", glm::vec4(0.0f));
+  f.clear("reveal", glm::vec4(1.0f));
+  const std::string functions = mboitFunctions(o, f.context().scene.camera);
+  const PipelineState additive = transparentState(f.context().profile, additiveBlend());
+  f.transparentPass(functions + R"(
+void main() {
+  vec4 c = shadeSurface();
+  float a = -log(1.0 - min(c.a, ALPHA_MAX));
+  if (a < )" + glslFloat(1e-7f) + R"() discard;
+  float z = warp(), z2 = z * z;
+  o0 = vec4(a);
+  o1 = vec4(z, z2, z2 * z, z2 * z2) * a;
+})",
+                    {"b0", "moments"}, "depth", additive);
+  PipelineState st = additive;
+  st.blend[1] = revealageBlend();
+  f.transparentPass(functions + R"(
+void main() {
+  vec4 c = shadeSurface();
+  float b0 = fetch(b0Map).r;
+  float w = 1.0;
+  if (b0 >= )" + glslFloat(0.00100050033f) + R"() {
+    vec4 m = fetch(momentMap) / b0;
+    w = clamp(exp(-b0 * absorbance(m, warp())), 0.0, 1.0);
+  }
+  o0 = vec4(c.rgb * c.a * w, c.a * w);
+  o1 = vec4(c.a);
+})",
+                    {"accum", "reveal"}, "depth", st, {{"b0Map", "b0"}, {"momentMap", "moments"}});
+  f.blendOverBackground(weightedResolveMain(), {{"accum", "accum"}, {"reveal", "reveal"}});
+  return "opaque";
+}
+
+// peel.cpp: each pass keeps the nearest layer strictly behind the previous one (compared in
+// the d24 representation: the fragment's z and the stored depth both as round-to-even
+// integers of z·(2^24 − 1), computed in double), blends it under the accumulator, and the
+// accumulator finally goes onto the background.
+std::string peel(GlFrame& f, const MethodOptions& o) {
+  const int passes = int(o.number("passes"));
+  f.clear("accum", glm::vec4(0, 0, 0, 1));
+  f.clearDepth("peeled_depth", 0.0f);
+  f.opaquePass();
+  PipelineState solid;
+  solid.depth = {true, CompareFunc::Less, true, false};
+  PipelineState under;
+  under.blend[0] = methods::underBlend();
+  for (int pass = 0; pass < passes; ++pass) {
+    f.copy("depth", "layer_depth");
+    f.clear("layer", glm::vec4(0.0f));
+    f.transparentPass(R"(
+void main() {
+  const double M = 16777215.0lf;
+  if (roundEven(double(windowDepth()) * M) <= roundEven(double(fetch(peeled).r) * M)) discard;
+  vec4 c = shadeSurface();
+  o0 = vec4(c.rgb * c.a, c.a);
+})",
+                      {"layer"}, "layer_depth", solid, {{"peeled", "peeled_depth"}});
+    f.fullscreenPass("void main() { o0 = fetch(layer); }", {"accum"}, under, {{"layer", "layer"}});
+    f.copy("layer_depth", "peeled_depth");
+  }
+  PipelineState merge;
+  merge.blend[0] = merge.blend[1] = methods::premultipliedOntoBackgroundBlend();
+  f.fullscreenPass(R"(
+void main() {
+  vec4 c = fetch(accum);
+  o0 = c;
+  o1 = c;
+})",
+                   {"opaque", "analysis"}, merge, {{"accum", "accum"}});
+  return "opaque";
+}
+
+const std::vector<std::pair<std::string, GlMethod>>& registry() {
+  static const std::vector<std::pair<std::string, GlMethod>> r = {
+      {"opaque", opaque}, {"over", over}, {"wsum", wsum}, {"wavg", wavg},
+      {"wboit", wboit},   {"mboit", mboit}, {"peel", peel}};
+  return r;
+}
+
+}  // namespace
+
+GlMethod findGlMethod(const std::string& name) {
+  for (const auto& [n, m] : registry())
+    if (n == name) return m;
+  return nullptr;
+}
+
+std::vector<std::string> glMethodNames() {
+  std::vector<std::string> names;
+  for (const auto& [n, m] : registry()) names.push_back(n);
+  return names;
+}
+
+}  // namespace oitref::glcheck

@@ -1,0 +1,107 @@
+#include "glcheck/scene_check.h"
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <ostream>
+#include <stdexcept>
+
+#include "glcheck/gl_methods.h"
+#include "tools/image_io.h"
+#include "tools/suite.h"
+
+namespace oitref::glcheck {
+namespace {
+
+// Heatmaps share one scale so methods can be compared by eye: white at 16 RGBA8 steps.
+constexpr double kHeatmapScale = 16.0 / 255.0;
+
+double shareBitEqual(const Image& a, const Image& b) {
+  const size_t texels = size_t(a.width()) * size_t(a.height()), bytes = a.bytesPerTexel();
+  size_t equal = 0;
+  for (size_t i = 0; i < texels; ++i) equal += std::memcmp(&a.bytes()[i * bytes], &b.bytes()[i * bytes], bytes) == 0;
+  return texels ? double(equal) / double(texels) : 1.0;
+}
+
+std::string percent(double share) {
+  char text[16];
+  std::snprintf(text, sizeof text, "%.2f %%", 100.0 * share);
+  return text;
+}
+
+void printHeader(std::ostream& out, const std::string& scene, int w, int h, const Profile& profile,
+                 const SceneCheckOptions& o) {
+  char line[256];
+  std::snprintf(line, sizeof line, "scene %s  %dx%d  oitref profile %s  tolerance %.3g (%.2f RGBA8 steps), pass at ≥ %s\n",
+                scene.c_str(), w, h, profile.name.c_str(), o.tolerance, o.tolerance * 255.0, percent(o.minShare).c_str());
+  out << line;
+  out << "  method   RGBA8: RMSE     max       ≤ tol     equal    RGBA32F: RMSE  max        attachments bit-equal\n";
+}
+
+void printRow(std::ostream& out, const SceneCheckRow& r) {
+  char line[512];
+  std::string attachments;
+  for (const auto& [name, share] : r.attachmentsBitEqual) attachments += " " + name + " " + percent(share);
+  const ImageDifference& p = r.presented;
+  std::snprintf(line, sizeof line, "  %-8s %12.3g %9.3g %9s %9s %14.3g %10.3g %s%s\n", r.method.c_str(), p.rmse, p.maxAbs,
+                percent(p.shareWithin()).c_str(), percent(1.0 - double(p.pixelsDiffering) / double(p.pixels)).c_str(),
+                r.analysis.rmse, r.analysis.maxAbs, attachments.c_str(), r.pass ? "" : "   FAIL");
+  out << line;
+  if (p.nonFinitePixels || r.analysis.nonFinitePixels)
+    out << "           non-finite pixels: RGBA8 " << p.nonFinitePixels << ", RGBA32F " << r.analysis.nonFinitePixels << "\n";
+}
+
+}  // namespace
+
+std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCheckOptions& o, std::ostream& out) {
+  const Profile profile = parseProfile(o.profile);
+  const std::vector<std::string> methodNames = o.methods.empty() ? glMethodNames() : o.methods;
+  for (const std::string& m : methodNames)
+    if (!findGlMethod(m)) {
+      std::string valid;
+      for (const std::string& n : glMethodNames()) valid += (valid.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("method '" + m + "' has no GL version (valid: " + valid + ")");
+    }
+  if (!o.heatmaps.empty()) std::filesystem::create_directories(o.heatmaps);
+  Renderer renderer(RendererOptions{0, 64});
+  std::vector<SceneCheckRow> rows;
+  for (const std::string& path : o.scenes) {
+    Scene scene = loadScene(path);
+    if (o.width > 0) scene.width = o.width, scene.height = o.height;
+    const SceneGeometry geometry = buildSceneGeometry(scene);
+    const FrameContext frame{scene, geometry, scene.width, scene.height, profile, renderer};
+    const std::string sceneName = tools::sceneName(path);
+    printHeader(out, sceneName, scene.width, scene.height, profile, o);
+    for (const std::string& name : methodNames) {
+      const std::unique_ptr<Method> method = makeMethod(name);
+      const MethodOptions options(method->info(), {});
+      const FrameResult ours = method->render(frame);
+      GlFrame gl(context, frame, method->attachments());
+      const std::string presentedName = findGlMethod(name)(gl, options);
+      const Image glPresented = gl.read(presentedName), glAnalysis = gl.read("analysis");
+      SceneCheckRow row;
+      row.scene = sceneName;
+      row.method = name;
+      row.presented = compareImages(glPresented, ours.final8, o.tolerance);
+      row.analysis = compareImages(glAnalysis, ours.finalFloat, o.tolerance);
+      for (const auto& [attachment, image] : ours.dump)
+        row.attachmentsBitEqual.emplace_back(attachment, shareBitEqual(gl.read(attachment), image));
+      row.pass = row.presented.shareWithin() >= o.minShare && row.presented.nonFinitePixels == 0;
+      printRow(out, row);
+      if (!o.heatmaps.empty()) {
+        const std::filesystem::path base = std::filesystem::path(o.heatmaps) / (sceneName + "_" + name);
+        tools::writeImage(base.string() + "_gl.png", glPresented);
+        tools::writeImage(base.string() + "_oitref.png", ours.final8);
+        tools::writeImage(base.string() + "_error.png", errorHeatmap(glPresented, ours.final8, kHeatmapScale));
+      }
+      rows.push_back(std::move(row));
+    }
+    out << "\n";
+  }
+  if (!o.heatmaps.empty())
+    out << "images in " << o.heatmaps << "/<scene>_<method>_{gl,oitref,error}.png (error: white at "
+        << kHeatmapScale * 255.0 << " RGBA8 steps, green where non-finite)\n";
+  return rows;
+}
+
+}  // namespace oitref::glcheck

@@ -1,0 +1,98 @@
+#include "oitref/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace oitref {
+namespace {
+
+int colourChannels(const Format& f) { return std::min(f.channels, 3); }
+
+void requireSameShape(const Image& a, const Image& b) {
+  if (a.width() != b.width() || a.height() != b.height())
+    throw std::invalid_argument("images differ in size: " + std::to_string(a.width()) + "x" + std::to_string(a.height()) +
+                                " and " + std::to_string(b.width()) + "x" + std::to_string(b.height()));
+  if (a.format().channels != b.format().channels)
+    throw std::invalid_argument("images differ in channel count: " + std::to_string(a.format().channels) + " and " +
+                                std::to_string(b.format().channels));
+}
+
+bool finite(const glm::vec4& v, int channels) {
+  for (int c = 0; c < channels; ++c)
+    if (!std::isfinite(v[c])) return false;
+  return true;
+}
+
+// e_p, or a negative value when the pixel is not finite in either image.
+// Adds the pixel's squared and absolute channel differences to the sums.
+double pixelError(const Image& a, const Image& b, int x, int y, int channels, double& squares, double& absSum) {
+  const glm::vec4 va = a.fetch(x, y), vb = b.fetch(x, y);
+  if (!finite(va, channels) || !finite(vb, channels)) return -1.0;
+  double e = 0;
+  for (int c = 0; c < channels; ++c) {
+    const double d = double(va[c]) - double(vb[c]);
+    e = std::max(e, std::fabs(d));
+    squares += d * d;
+    absSum += std::fabs(d);
+  }
+  return e;
+}
+
+}  // namespace
+
+ImageDifference compareImages(const Image& a, const Image& b, double threshold) {
+  requireSameShape(a, b);
+  const int channels = colourChannels(a.format());
+  ImageDifference d;
+  d.threshold = threshold;
+  d.pixels = size_t(a.width()) * size_t(a.height());
+  double squares = 0, absSum = 0;
+  size_t finitePixels = 0;
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x) {
+      const double e = pixelError(a, b, x, y, channels, squares, absSum);
+      if (e < 0) {
+        ++d.nonFinitePixels;
+        continue;
+      }
+      ++finitePixels;
+      if (e > 0) ++d.pixelsDiffering;
+      if (e > threshold) ++d.pixelsAbove;
+      if (e > d.maxAbs) d.maxAbs = e, d.maxX = x, d.maxY = y;
+    }
+  const double samples = double(finitePixels) * channels;
+  d.mse = samples > 0 ? squares / samples : 0.0;
+  d.rmse = std::sqrt(d.mse);
+  d.meanAbs = samples > 0 ? absSum / samples : 0.0;
+  d.psnr = d.mse > 0 ? 10.0 * std::log10(1.0 / d.mse) : std::numeric_limits<double>::infinity();
+  return d;
+}
+
+Image errorHeatmap(const Image& a, const Image& b, double scaleMax) {
+  requireSameShape(a, b);
+  const int channels = colourChannels(a.format());
+  // Stops of the colour scale at t = 0, 0.2, 0.4, 0.6, 0.8, 1.
+  static const float stops[6][3] = {{0, 0, 0}, {0.1f, 0.1f, 0.8f}, {0.7f, 0.1f, 0.7f},
+                                    {1, 0.5f, 0.1f}, {1, 0.9f, 0.2f}, {1, 1, 1}};
+  Image map(makeFormat(FormatId::RGBA8), a.width(), a.height());
+  const Profile profile = exactProfile();
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x) {
+      double squares = 0, absSum = 0;
+      const double e = pixelError(a, b, x, y, channels, squares, absSum);
+      glm::vec4 c(0, 1, 0, 1);
+      if (e >= 0) {
+        const double t = e <= 0 ? 0.0 : std::min(1.0, e / scaleMax);
+        const int i = std::min(4, int(t * 5));
+        const float f = float(t * 5 - i);
+        for (int k = 0; k < 3; ++k) c[k] = stops[i][k] + (stops[i + 1][k] - stops[i][k]) * f;
+      }
+      map.store(x, y, c, profile);
+    }
+  return map;
+}
+
+}  // namespace oitref
