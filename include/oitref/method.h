@@ -66,6 +66,15 @@ struct FrameContext {
   int width, height;
   Profile profile;
   Renderer& renderer;
+  // Bytes a frame may use. Checked up front against Method::memoryNeed (checkMemory), and by
+  // methods whose storage is known only while rendering (the A-buffer's fragments).
+  uint64_t memoryLimit = UINT64_MAX;
+};
+
+// One item of what a frame allocates, for the memory check and its error message.
+struct MemoryItem {
+  std::string what;
+  uint64_t bytes = 0;
 };
 
 struct PassReport {
@@ -104,7 +113,17 @@ class Method {
   virtual std::vector<AttachmentDecl> attachments() const = 0;
   virtual FrameResult render(const FrameContext& context) = 0;
   int bytesPerPixel() const;
+  // What render() allocates for a frame, known before it starts: the declared attachments, the
+  // RGBA32F analysis copy and the presented copy in the result, plus each method's own storage.
+  virtual std::vector<MemoryItem> memoryNeed(int width, int height, const SceneGeometry& geometry) const;
 };
+
+// Throws std::runtime_error when the method's memoryNeed exceeds `limit`, listing the items.
+void checkMemory(const Method& method, int width, int height, const SceneGeometry& geometry, uint64_t limit);
+// Half of the machine's physical memory: the default --memory-limit.
+uint64_t defaultMemoryLimit();
+// "1.5 MiB" style.
+std::string formatBytes(uint64_t bytes);
 
 std::vector<MethodInfo> allMethods();
 // Throws std::invalid_argument for an unknown method (with the nearest name) or bad options.

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include "glcheck/blend_check.h"
 #include "glcheck/gl_context.h"
@@ -11,6 +12,7 @@
 #include "glcheck/scene_check.h"
 #include "tools/blend_case_generator.h"
 #include "tools/commands.h"
+#include "tools/image_io.h"
 #include "tools/number_parse.h"
 #include "tools/suite.h"
 
@@ -43,7 +45,7 @@ size_t readCases(const std::string& path, std::vector<tools::BlendCase>& cases, 
 // Every case with GL's and oitref's stored destination and result bits, as CSV.
 void writeResults(const std::string& path, const std::vector<tools::BlendCase>& cases, const std::vector<GlTexels>& gl,
                   const Profile& profile) {
-  std::ofstream w(path);
+  std::ostringstream w;
   w << tools::blendCsvHeader(false) << ",gl_dst_bits,gl_result_bits,oitref_dst_bits,oitref_result_bits,equal\n";
   for (size_t i = 0; i < cases.size(); ++i) {
     const tools::BlendCase& c = cases[i];
@@ -55,7 +57,7 @@ void writeResults(const std::string& path, const std::vector<tools::BlendCase>& 
     w << tools::blendCaseCsvLine(c) << "," << glDst << "," << glResult << "," << ourDst << "," << ourResult << ","
       << (glDst == ourDst && glResult == ourResult ? "yes" : "no") << "\n";
   }
-  if (!w) throw std::runtime_error("cannot write '" + path + "'");
+  tools::writeTextFile(path, w.str());
 }
 
 int runBlendCheck(const BlendCheckOptions& o) {
@@ -73,10 +75,10 @@ int runBlendCheck(const BlendCheckOptions& o) {
     cases = tools::generateBlendCases(g);
   }
   if (!o.writeCases.empty()) {
-    std::ofstream w(o.writeCases);
+    std::ostringstream w;
     w << tools::blendCsvHeader(false) << "\n";
     for (const auto& c : cases) w << tools::blendCaseCsvLine(c) << "\n";
-    if (!w) throw std::runtime_error("cannot write '" + o.writeCases + "'");
+    tools::writeTextFile(o.writeCases, w.str());
   }
   for (const auto& c : cases)
     if (c.format.id == FormatId::Minifloat)
@@ -96,7 +98,7 @@ int runBlendCheck(const BlendCheckOptions& o) {
 
 struct SceneCheckCommand {
   SceneCheckOptions options;
-  std::string size = "160x90", methods;
+  std::string size = "160x90", methods, memoryLimit;
 };
 
 int runSceneCheckCommand(SceneCheckCommand& c) {
@@ -104,6 +106,7 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
   if (o.scenes.empty()) o.scenes = tools::sceneFiles("scenes");
   if (o.scenes.empty()) throw std::invalid_argument("no scenes given and none in ./scenes");
   if (!c.size.empty() && c.size != "scene") tools::parseSize(c.size, "--size", o.width, o.height);
+  o.memoryLimit = c.memoryLimit.empty() ? defaultMemoryLimit() : tools::parseByteSize(c.memoryLimit, "--memory-limit");
   o.methods.clear();
   for (size_t start = 0; start < c.methods.size();) {
     const size_t comma = c.methods.find(',', start);
@@ -156,6 +159,7 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
   scene->add_option("--min-share", s->options.minShare, "Share of pixels within tolerance a method needs")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  scene->add_option("--memory-limit", s->memoryLimit, "Refuse frames that need more, e.g. 8G (default: half the machine's memory)");
   scene->add_option("--heatmaps", s->options.heatmaps, "Write GL and oitref images and error heatmaps into this folder");
   scene->callback([s, &exitCode] {
     exitCode = runReportingErrors("glcheck scene", [&] { return glcheck::runSceneCheckCommand(*s); });

@@ -69,11 +69,12 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
     Scene scene = loadScene(path);
     if (o.width > 0) scene.width = o.width, scene.height = o.height;
     const SceneGeometry geometry = buildSceneGeometry(scene);
-    const FrameContext frame{scene, geometry, scene.width, scene.height, profile, renderer};
+    const FrameContext frame{scene, geometry, scene.width, scene.height, profile, renderer, o.memoryLimit};
     const std::string sceneName = tools::sceneName(path);
     printHeader(out, sceneName, scene.width, scene.height, profile, o);
     for (const std::string& name : methodNames) {
       const std::unique_ptr<Method> method = makeMethod(name);
+      checkMemory(*method, scene.width, scene.height, geometry, o.memoryLimit);
       const MethodOptions options(method->info(), {});
       const FrameResult ours = method->render(frame);
       GlFrame gl(context, frame, method->attachments());

@@ -23,6 +23,7 @@ struct SceneCheckOptions {
   // tie (0.3·255 = 76.5) by one step, and changes the winner of depth ties where surfaces cross.
   double tolerance = 1.5 / 255.0;    // per-pixel error allowed on the RGBA8 image: one step passes
   double minShare = 0.99;            // pixels within tolerance a method must reach to pass
+  uint64_t memoryLimit = UINT64_MAX;  // for oitref's frames (checkMemory)
   std::string heatmaps;              // folder for GL/oitref images and error heatmaps; empty: none
 };
 

@@ -116,6 +116,13 @@ class Raycast final : public Method {
  public:
   const MethodInfo& info() const override { return raycastInfo(); }
   std::vector<AttachmentDecl> attachments() const override { return {}; }
+  // Embree's BVH is not declared up front; 160 B per triangle covers its vertex and index copies
+  // and a BVH4 with triangle4 leaves (an estimate, not a measurement of Embree's allocator).
+  std::vector<MemoryItem> memoryNeed(int width, int height, const SceneGeometry& geometry) const override {
+    std::vector<MemoryItem> items = Method::memoryNeed(width, height, geometry);
+    items.push_back({"Embree scene (estimated 160 B/triangle)", uint64_t(geometry.triangleCount()) * 160});
+    return items;
+  }
   FrameResult render(const FrameContext& c) override {
     FrameResult result;
     const auto t0 = std::chrono::steady_clock::now();

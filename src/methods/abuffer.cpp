@@ -39,6 +39,12 @@ class Abuffer final : public Method {
       : useDouble_(o.text("precision") == "double"), maxFragments_(uint64_t(o.number("max_fragments"))) {}
   const MethodInfo& info() const override { return abufferInfo(); }
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
+  // The per-pixel lists' heads; the fragments themselves are checked after the counting pass.
+  std::vector<MemoryItem> memoryNeed(int width, int height, const SceneGeometry& geometry) const override {
+    std::vector<MemoryItem> items = Method::memoryNeed(width, height, geometry);
+    items.push_back({"fragment counts, offsets and fill levels (16 B/pixel)", uint64_t(width) * uint64_t(height) * 16});
+    return items;
+  }
 
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
@@ -57,6 +63,15 @@ class Abuffer final : public Method {
     });
     const uint64_t total = std::accumulate(count.begin(), count.end(), uint64_t(0));
     const size_t deepest = size_t(std::max_element(count.begin(), count.end()) - count.begin());
+    uint64_t known = 0;
+    for (const MemoryItem& i : memoryNeed(w, h, context.geometry)) known += i.bytes;
+    const uint64_t fragmentBytes = total * sizeof(StoredFragment);
+    if (known + fragmentBytes > context.memoryLimit)
+      throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments need " + formatBytes(fragmentBytes) +
+                               " (plus " + formatBytes(known) + " for the frame), above the memory limit of " +
+                               formatBytes(context.memoryLimit) + "; the deepest pixel (" + std::to_string(deepest % w) +
+                               "," + std::to_string(deepest / w) + ") has " + std::to_string(count[deepest]) +
+                               " layers. Render smaller or raise --memory-limit.");
     if (total > maxFragments_)
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments exceed max_fragments=" +
                                std::to_string(maxFragments_) + " (" + std::to_string(total * sizeof(StoredFragment) >> 20) +

@@ -1,4 +1,7 @@
 // The list of methods, their options, and the pieces of the Method interface they share.
+#include <unistd.h>
+
+#include <cstdio>
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
@@ -87,6 +90,41 @@ int Method::bytesPerPixel() const {
   int bytes = 0;
   for (const AttachmentDecl& a : attachments()) bytes += a.bytesPerTexel();
   return bytes;
+}
+
+std::vector<MemoryItem> Method::memoryNeed(int width, int height, const SceneGeometry&) const {
+  const uint64_t pixels = uint64_t(width) * uint64_t(height);
+  return {{"attachments (" + std::to_string(bytesPerPixel()) + " B/pixel)", pixels * uint64_t(bytesPerPixel())},
+          {"RGBA32F analysis copy (16 B/pixel)", pixels * 16},
+          {"presented RGBA8 copy (4 B/pixel)", pixels * 4}};
+}
+
+std::string formatBytes(uint64_t bytes) {
+  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+  double v = double(bytes);
+  int u = 0;
+  while (v >= 1024.0 && u < 6) v /= 1024.0, ++u;
+  char text[32];
+  std::snprintf(text, sizeof text, u == 0 ? "%.0f %s" : "%.1f %s", v, units[u]);
+  return text;
+}
+
+void checkMemory(const Method& method, int width, int height, const SceneGeometry& geometry, uint64_t limit) {
+  const std::vector<MemoryItem> items = method.memoryNeed(width, height, geometry);
+  uint64_t total = 0;
+  for (const MemoryItem& i : items) total = i.bytes > UINT64_MAX - total ? UINT64_MAX : total + i.bytes;
+  if (total <= limit) return;
+  std::string list;
+  for (const MemoryItem& i : items) list += "\n  " + formatBytes(i.bytes) + "  " + i.what;
+  throw std::runtime_error("method '" + method.info().name + "' at " + std::to_string(width) + "x" + std::to_string(height) +
+                           " needs " + formatBytes(total) + ", above the memory limit of " + formatBytes(limit) +
+                           " (--memory-limit):" + list + "\nRender smaller or raise --memory-limit.");
+}
+
+uint64_t defaultMemoryLimit() {
+  const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
+  if (pages <= 0 || pageSize <= 0) return uint64_t(4) << 30;  // unknown: 4 GiB
+  return uint64_t(pages) * uint64_t(pageSize) / 2;
 }
 
 std::vector<MethodInfo> allMethods() {

@@ -12,7 +12,8 @@
 namespace oitref {
 
 TriangleMesh loadMesh(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw SceneError("mesh file '" + path + "' does not exist");
+  if (!std::filesystem::exists(path)) throw SceneError("mesh file '" + path + "' does not exist");
+  if (!std::filesystem::is_regular_file(path)) throw SceneError("mesh file '" + path + "' is not a regular file");
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* scene =

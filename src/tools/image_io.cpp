@@ -49,6 +49,19 @@ void writePfm(const std::string& path, const Image& image) {
 
 }  // namespace
 
+void writeTextFile(const std::string& path, const std::string& text) {
+  const std::filesystem::path final(path), temp = tempBeside(final);
+  {
+    std::ofstream out(temp, std::ios::binary);
+    out << text;
+    if (!out) {
+      std::filesystem::remove(temp);
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  std::filesystem::rename(temp, final);
+}
+
 void writeImage(const std::string& path, const Image& image) {
   const Format& f = image.format();
   const int w = image.width(), h = image.height(), channels = f.channels;

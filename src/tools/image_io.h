@@ -16,5 +16,7 @@ namespace oitref::tools {
 
 // Throws std::runtime_error naming the file and the reason.
 void writeImage(const std::string& path, const Image& image);
+// Text files (manifests, CSV results) written the same way: a temporary, then a rename.
+void writeTextFile(const std::string& path, const std::string& text);
 
 }  // namespace oitref::tools

@@ -52,6 +52,22 @@ void parseSize(const std::string& text, const std::string& what, int& width, int
   width = w, height = h;
 }
 
+uint64_t parseByteSize(const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  std::string unit(end);
+  if (unit.size() >= 2 && unit.substr(unit.size() - 2) == "iB") unit.resize(unit.size() - 2);
+  else if (unit == "B") unit.clear();
+  const std::string units = "KMGT";
+  const size_t power = unit.empty() ? 0 : (unit.size() == 1 ? units.find(unit[0]) + 1 : 0);
+  const double bytes = v * std::ldexp(1.0, 10 * int(power));
+  if (end == text.c_str() || errno || !(v > 0) || (!unit.empty() && (unit.size() != 1 || power == 0)) ||
+      !(bytes < 0x1p63))
+    throw std::invalid_argument(what + " '" + text + "': expected a positive size such as 8G, 512M or 1048576");
+  return uint64_t(bytes);
+}
+
 std::string hexFloat(float value) {
   if (std::isnan(value)) return std::signbit(value) ? "-nan" : "nan";
   char buf[48];

@@ -1,6 +1,7 @@
 // Exact number parsing and printing for the command line and CSV.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -16,6 +17,9 @@ glm::vec4 parseVec4(const std::string& text, const std::string& what);
 // "WxH" -> width, height with 1 ≤ W, H ≤ Image::kMaxDimension. Throws std::invalid_argument
 // naming `what` (e.g. "--size").
 void parseSize(const std::string& text, const std::string& what, int& width, int& height);
+// A byte count: "4096", "512M", "1.5GiB", "8G" (K, M, G, T with or without "iB": powers of 1024).
+// Throws std::invalid_argument naming `what`.
+uint64_t parseByteSize(const std::string& text, const std::string& what);
 // Hex float that round-trips ("0x1.8p-3", "0x0p+0", "nan", "-inf").
 std::string hexFloat(float value);
 

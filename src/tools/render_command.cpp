@@ -11,12 +11,13 @@
 #include "tools/commands.h"
 #include "tools/image_io.h"
 #include "tools/number_parse.h"
+#include "tools/suite.h"
 
 namespace oitref::tools {
 namespace {
 
 struct RenderOptions {
-  std::string scene, method = "abuffer", out, dump, size, profile = "exact";
+  std::string scene, method = "abuffer", out, dump, size, profile = "exact", memoryLimit;
   std::vector<std::string> sets;
   int threads = 0, repeat = 1;
   bool json = false;
@@ -45,7 +46,9 @@ int runRender(const RenderOptions& o) {
   const Profile profile = parseProfile(o.profile);
   const SceneGeometry geometry = buildSceneGeometry(scene);
   Renderer renderer(RendererOptions{o.threads, 64});
-  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer};
+  const uint64_t limit = o.memoryLimit.empty() ? defaultMemoryLimit() : parseByteSize(o.memoryLimit, "--memory-limit");
+  checkMemory(*method, scene.width, scene.height, geometry, limit);
+  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, limit};
   FrameResult result;
   std::vector<double> frameMs;
   for (int i = 0; i < o.repeat; ++i) {
@@ -74,8 +77,8 @@ int runRender(const RenderOptions& o) {
     for (size_t i = 0; i < result.passes.size(); ++i)
       std::printf("%s{\"name\": %s, \"ms\": %.4f, \"fragments\": %llu}", i ? ", " : "", jsonString(result.passes[i].name).c_str(),
                   result.passes[i].ms, (unsigned long long)result.passes[i].stats.fragmentsShaded);
-    std::printf("], \"frame_ms\": %.4f, \"bytes_per_pixel\": %d, \"fragments\": %llu}\n", median, method->bytesPerPixel(),
-                (unsigned long long)result.fragmentsShaded());
+    std::printf("], \"frame_ms\": %.4f, \"bytes_per_pixel\": %d, \"fragments\": %llu, \"sha256\": %s}\n", median,
+                method->bytesPerPixel(), (unsigned long long)result.fragmentsShaded(), jsonString(frameHash(result)).c_str());
     return 0;
   }
   std::printf("%s  %s  %dx%d  threads %d  profile %s\n", o.scene.c_str(), o.method.c_str(), scene.width, scene.height,
@@ -88,6 +91,7 @@ int runRender(const RenderOptions& o) {
   for (const PassReport& p : result.passes)
     std::printf("  %-16s %9.2f ms %12llu fragments shaded\n", p.name.c_str(), p.ms, (unsigned long long)p.stats.fragmentsShaded);
   for (const auto& [k, v] : result.facts) std::printf("  %s: %s\n", k.c_str(), v.c_str());
+  std::printf("pixels sha256 %s\n", frameHash(result).c_str());
   std::printf("frame %.2f ms%s\n", median, o.repeat > 1 ? (" (median of " + std::to_string(o.repeat) + ")").c_str() : "");
   if (!o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
   return 0;
@@ -108,6 +112,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--dump", o->dump, "Write every colour attachment into this folder");
   cmd->add_option("--repeat", o->repeat, "Render N times, report the median frame time")->check(CLI::Range(1, 1000));
   cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
+  cmd->add_option("--memory-limit", o->memoryLimit, "Refuse frames that need more, e.g. 8G (default: half the machine's memory)");
   cmd->callback([o, &exitCode] {
     exitCode = runReportingErrors("render", [&] {
       return runRender(*o);

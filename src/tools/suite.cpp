@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "oitref/metrics.h"
 #include "tools/image_io.h"
 #include "util/sha256.h"
 
@@ -25,11 +26,11 @@ std::vector<std::string> sceneFiles(const std::string& folder) {
 std::string sceneName(const std::string& path) { return fs::path(path).stem().string(); }
 
 SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const Profile& profile, int width, int height,
-                         const std::string& outDir) {
+                         const std::string& outDir, uint64_t memoryLimit) {
   Scene scene = loadScene(scenePath);
   if (width > 0) scene.width = width, scene.height = height;
   const SceneGeometry geometry = buildSceneGeometry(scene);
-  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer};
+  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, memoryLimit};
   SuiteScene result;
   result.name = sceneName(scenePath);
   result.width = scene.width, result.height = scene.height;
@@ -38,24 +39,16 @@ SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const
   Image truth;
   for (const MethodInfo& info : methods) {
     std::unique_ptr<Method> method = makeMethod(info.name);
+    checkMemory(*method, scene.width, scene.height, geometry, memoryLimit);
     const FrameResult frame = method->render(context);
     if (info.name == "abuffer") {
       truth = frame.finalFloat;
       for (const auto& [k, v] : frame.facts)
         if (k == "fragments") result.fragments = std::stoull(v);
     }
-    SuiteRow row{info.name, frame.frameMs(), method->bytesPerPixel(), 0, 0, ""};
-    double sum = 0;
-    for (int y = 0; y < scene.height; ++y)
-      for (int x = 0; x < scene.width; ++x) {
-        const glm::vec4 a = frame.finalFloat.fetch(x, y), b = truth.fetch(x, y);
-        for (int k = 0; k < 3; ++k) {
-          const double d = std::abs(double(a[k]) - double(b[k]));
-          sum += d * d;
-          row.maxError = std::isnan(d) ? NAN : std::max(row.maxError, d);
-        }
-      }
-    row.rmse = std::sqrt(sum / (3.0 * scene.width * scene.height));
+    const ImageDifference d = compareImages(frame.finalFloat, truth, 0.0);
+    SuiteRow row{info.name, frame.frameMs(), method->bytesPerPixel(), d.rmse, d.maxAbs, ""};
+    if (d.nonFinitePixels) row.note = std::to_string(d.nonFinitePixels) + " non-finite pixels (not in RMSE)";
     for (const auto& [k, v] : frame.facts)
       if (k == "passes that peeled a layer" || k == "all layers peeled" || k == "depth complexity max")
         row.note += (row.note.empty() ? "" : ", ") + k + ": " + v;
@@ -108,10 +101,11 @@ std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Rende
     }
   }
   if (write) {
-    std::ofstream manifest(fs::path(dir) / "manifest.txt");
+    std::ostringstream manifest;
     manifest << "# scene method sha256(final RGBA8 bits, then RGBA32F bits), " << kReferenceWidth << "x" << kReferenceHeight
              << ", profile exact. Regenerate with `oitref reference --write` only on purpose.\n";
     for (const ReferenceEntry& e : entries) manifest << e.scene << " " << e.method << " " << e.hash << "\n";
+    writeTextFile((fs::path(dir) / "manifest.txt").string(), manifest.str());
   }
   return entries;
 }

@@ -33,7 +33,7 @@ std::string sceneName(const std::string& path);
 // reference for the errors). width/height 0: the scene's own resolution. Writes
 // outDir/<scene>/<method>.png and .exr when outDir is not empty.
 SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const Profile& profile, int width, int height,
-                         const std::string& outDir);
+                         const std::string& outDir, uint64_t memoryLimit);
 std::string formatSuiteTable(const SuiteScene& scene);
 
 // SHA-256 of a frame's raw pixel bits: the final RGBA8 target, then the RGBA32F result.

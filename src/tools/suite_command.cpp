@@ -14,7 +14,7 @@ namespace {
 
 struct SuiteOptions {
   std::vector<std::string> scenes;
-  std::string out, size, profile = "exact", dir = "reference", scenesDir = "scenes";
+  std::string out, size, profile = "exact", dir = "reference", scenesDir = "scenes", memoryLimit;
   int threads = 0;
   bool write = false;
 };
@@ -29,16 +29,18 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   suite->add_option("--size", o->size, "Override the scenes' resolution, WxH");
   suite->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
   suite->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
+  suite->add_option("--memory-limit", o->memoryLimit, "Refuse frames that need more, e.g. 8G (default: half the machine's memory)");
   suite->callback([o, &exitCode] {
     exitCode = runReportingErrors("suite", [&] {
       std::vector<std::string> scenes = o->scenes.empty() ? sceneFiles("scenes") : o->scenes;
       int w = 0, h = 0;
       if (!o->size.empty()) parseSize(o->size, "--size", w, h);
+      const uint64_t limit = o->memoryLimit.empty() ? defaultMemoryLimit() : parseByteSize(o->memoryLimit, "--memory-limit");
       Renderer renderer(RendererOptions{o->threads, 64});
       const Profile profile = parseProfile(o->profile);
       std::printf("oitref suite: %zu scenes, threads %d, profile %s\n\n", scenes.size(), renderer.threads(), profile.name.c_str());
       for (const std::string& path : scenes) {
-        std::fputs(formatSuiteTable(runSuiteScene(path, renderer, profile, w, h, o->out)).c_str(), stdout);
+        std::fputs(formatSuiteTable(runSuiteScene(path, renderer, profile, w, h, o->out, limit)).c_str(), stdout);
         std::fputs("\n", stdout);
         std::fflush(stdout);
       }

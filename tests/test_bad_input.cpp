@@ -1,0 +1,173 @@
+// Bad input gets a clear error naming the file and the field (or line), never a crash or a
+// silently wrong image. Scene-format details beyond these are in test_scene.cpp; the
+// command-line errors (sizes, memory limits, the A-buffer budget) are ctest cases in
+// tests/CMakeLists.txt, label bad_input.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "oitref/method.h"
+#include "oitref/scene_geometry.h"
+
+using namespace oitref;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path testDir() {
+  const fs::path d = fs::temp_directory_path() / "oitref-bad-input-test";
+  fs::create_directories(d);
+  return d;
+}
+
+std::string write(const std::string& name, const std::string& bytes) {
+  const fs::path p = testDir() / name;
+  std::ofstream(p, std::ios::binary) << bytes;
+  return p.string();
+}
+
+template <typename F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+std::string sceneError(const std::string& json) {
+  return errorOf([&] { parseScene(json, "s.json"); });
+}
+
+std::string meshError(const std::string& name, const std::string& bytes) {
+  const std::string path = write(name, bytes);
+  return errorOf([&] { loadMesh(path); });
+}
+
+std::string binaryPlyTriangle(const float (&xyz)[9], const int (&indices)[3]) {
+  std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  ply.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  ply += char(3);
+  ply.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  return ply;
+}
+
+}  // namespace
+
+TEST_CASE("bad input: malformed and truncated JSON name the file and the position", "[bad_input]") {
+  CHECK_THAT(sceneError(R"({"objects": [{"type": "mesh")"), Catch::StartsWith("s.json: malformed JSON") &&
+                                                             Catch::Contains("unexpected end of input"));
+  CHECK_THAT(sceneError(""), Catch::StartsWith("s.json: malformed JSON"));
+  CHECK_THAT(sceneError(R"({"objects": [], "back": [0, 0, 0],})"), Catch::StartsWith("s.json: malformed JSON") &&
+                                                                    Catch::Contains("line 1"));
+  CHECK_THAT(sceneError("[1, 2]"), Catch::Contains("s.json: expected a JSON object at the top level"));
+}
+
+TEST_CASE("bad input: wrong types name the field and what was expected", "[bad_input]") {
+  CHECK_THAT(sceneError(R"({"objects": {}})"), Catch::Contains("s.json: objects: expected an array of objects"));
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": []})"), Catch::Contains("camera: expected an object"));
+  CHECK_THAT(sceneError(R"({"objects": [], "back": [1, 2]})"), Catch::Contains("back: expected an array of 3 numbers"));
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"near": "0.1"}})"),
+             Catch::Contains("camera.near: expected a number, got string"));
+  CHECK_THAT(sceneError(R"({"objects": [{"type": "mesh", "file_path": "a.obj", "scale": "big"}]})"),
+             Catch::Contains("objects[0].scale: expected a number, got string"));
+  CHECK_THAT(sceneError(R"({"objects": [{"type": "mesh", "file_path": "a.obj", "transparent": 1}]})"),
+             Catch::Contains("objects[0].transparent: expected true or false"));
+  CHECK_THAT(sceneError(R"({"objects": [{"type": "mesh", "file_path": 3}]})"),
+             Catch::Contains("objects[0].file_path: expected a path string"));
+  CHECK_THAT(sceneError(R"({"objects": [{"type": "particle", "count": 2.5}]})"),
+             Catch::Contains("objects[0].count: expected an integer, got number"));
+  CHECK_THAT(sceneError(R"({"objects": [], "resolution": [-4, 10]})"),
+             Catch::Contains("resolution[0]: expected an integer in [1, 16384], got -4"));
+  CHECK_THAT(sceneError(R"({"objects": [], "resolution": [640, 1e9]})"), Catch::Contains("resolution[1]"));
+}
+
+TEST_CASE("bad input: unknown keys suggest the nearest valid one", "[bad_input]") {
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"fovy": 60}})"),
+             Catch::Contains("camera.fovy: unknown key (did you mean 'fov_y'?)"));
+  CHECK_THAT(sceneError(R"({"objets": []})"), Catch::Contains("objets: unknown key (did you mean 'objects'?)"));
+}
+
+TEST_CASE("bad input: every camera rule", "[bad_input]") {
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"near": -1}})"), Catch::Contains("camera.near: must be positive"));
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"near": 0.5, "far": 0.5}})"),
+             Catch::Contains("camera.far: must be greater than near"));
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"fov_y": 0}})"), Catch::Contains("camera.fov_y: must lie in (0, 180)"));
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"fov_y": -30}})"), Catch::Contains("camera.fov_y"));
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"position": [1, 2, 3], "target": [1, 2, 3]}})"),
+             Catch::Contains("camera.target: must differ from the position"));
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"position": [0, 0, 5], "up": [0, 0, 2]}})"),
+             Catch::Contains("camera.up: must not be parallel to the view direction"));
+}
+
+TEST_CASE("bad input: meshes with non-finite coordinates or bad indices, missing or unreadable files", "[bad_input]") {
+  CHECK_THAT(meshError("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+             Catch::Contains("nan.obj': vertex 0 of mesh 0 has a non-finite coordinate"));
+  CHECK_THAT(meshError("inf.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n"),
+             Catch::Contains("vertex 1 of mesh 0 has a non-finite coordinate"));
+  CHECK_THAT(meshError("nan.ply", binaryPlyTriangle({0, 0, 0, 1, 0, 0, 0, NAN, 0}, {0, 1, 2})),
+             Catch::Contains("nan.ply': vertex 2 of mesh 0 has a non-finite coordinate"));
+  CHECK_THAT(meshError("range.ply", binaryPlyTriangle({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 7})),
+             Catch::Contains("range.ply': face 0 has an index out of range"));
+  CHECK_THAT(meshError("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"),
+             Catch::Contains("cannot load mesh") && Catch::Contains("index out of range"));
+  CHECK_THAT(meshError("garbage.obj", "this is not a mesh\n"), Catch::Contains("garbage.obj' has no triangles"));
+  CHECK_THAT(meshError("empty.obj", ""), Catch::Contains("cannot load mesh") && Catch::Contains("empty.obj"));
+  CHECK_THAT(errorOf([] { loadMesh((testDir() / "missing.obj").string()); }), Catch::Contains("missing.obj' does not exist"));
+  CHECK_THAT(errorOf([] { loadMesh(testDir().string()); }), Catch::Contains("is not a regular file"));
+  // In a scene, the error also names the scene file and the object.
+  write("tri_nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string scene = write("nan_scene.json", R"({"objects": [{"type": "mesh", "file_path": "tri_nan.obj"}]})");
+  CHECK_THAT(errorOf([&] { loadScene(scene); }),
+             Catch::Contains("nan_scene.json: objects[0].file_path: mesh '") && Catch::Contains("non-finite coordinate"));
+}
+
+TEST_CASE("bad input: degenerate and zero-area triangles are drawn as GL draws them: not at all", "[bad_input]") {
+  // A square, once alone and once with a zero-area sliver and a repeated-vertex triangle in
+  // between: the images must be identical bits.
+  write("clean.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n");
+  write("degenerate.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nv 0 -1 0\nf 1 2 3\nf 1 5 2\nf 3 3 4\nf 1 3 4\n");
+  auto render = [](const std::string& mesh) {
+    const std::string path = write(mesh + ".json", R"({"resolution": [32, 32], "objects": [{"type": "mesh", "file_path": ")" +
+                                                       mesh + R"(.obj", "color_override": [0.8, 0.4, 0.2, 0.5]}]})");
+    const Scene scene = loadScene(path);
+    const SceneGeometry g = buildSceneGeometry(scene);
+    Renderer r(RendererOptions{2, 16});
+    return makeMethod("over")->render(FrameContext{scene, g, scene.width, scene.height, exactProfile(), r});
+  };
+  const FrameResult clean = render("clean"), degenerate = render("degenerate");
+  CHECK(clean.final8.sameBits(degenerate.final8));
+  CHECK(clean.finalFloat.sameBits(degenerate.finalFloat));
+  CHECK(clean.fragmentsShaded() == degenerate.fragmentsShaded());
+}
+
+TEST_CASE("bad input: unknown methods and options suggest the nearest name", "[bad_input]") {
+  CHECK_THAT(errorOf([] { makeMethod("abufer"); }),
+             Catch::Contains("unknown method 'abufer' (did you mean 'abuffer'?)") && Catch::Contains("valid:"));
+  CHECK_THAT(errorOf([] { makeMethod("wboit", {{"wieght", "mb7"}}); }),
+             Catch::Contains("method 'wboit' has no option 'wieght'") && Catch::Contains("did you mean 'weight'?"));
+  CHECK_THAT(errorOf([] { makeMethod("wboit", {{"weight", "mb11"}}); }),
+             Catch::Contains("option 'weight': 'mb11' is not one of"));
+  CHECK_THAT(errorOf([] { makeMethod("peel", {{"passes", "many"}}); }), Catch::Contains("'many' is not a number"));
+  CHECK_THAT(errorOf([] { makeMethod("peel", {{"passes", "0"}}); }), Catch::Contains("passes': must be 1..1024"));
+}
+
+TEST_CASE("bad input: memory needs are checked before allocating", "[bad_input]") {
+  const Scene scene = parseScene(R"({"objects": []})", "empty.json");
+  const SceneGeometry g = buildSceneGeometry(scene);
+  const auto wboit = makeMethod("wboit");
+  // wboit: opaque 4 + depth 4 + rgba32f 16 + r32f 4 = 28 B/pixel, + 16 analysis + 4 presented.
+  uint64_t total = 0;
+  for (const MemoryItem& i : wboit->memoryNeed(1000, 1000, g)) total += i.bytes;
+  CHECK(total == 48'000'000);
+  CHECK_NOTHROW(checkMemory(*wboit, 1000, 1000, g, 48'000'000));
+  CHECK_THAT(errorOf([&] { checkMemory(*wboit, 1000, 1000, g, 47'999'999); }),
+             Catch::Contains("method 'wboit' at 1000x1000 needs 45.8 MiB, above the memory limit of 45.8 MiB") &&
+                 Catch::Contains("attachments (28 B/pixel)"));
+  CHECK_THAT(errorOf([&] { checkMemory(*makeMethod("raycast"), 16384, 16384, g, uint64_t(1) << 30); }),
+             Catch::Contains("needs 5.0 GiB"));
+}
