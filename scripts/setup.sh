@@ -3,13 +3,15 @@
 # builds it in ./build (Release). Safe to run again: it does only what is not done yet.
 #   OITREF_BUILD_DIR   build folder (default: build)
 #   OITREF_CMAKE_ARGS  extra CMake arguments (e.g. -DOITREF_F16C=OFF)
+#   OITREF_BUILD_TARGET  build only this target (default: everything)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake ninja-build libglm-dev libembree-dev libtbb-dev
           libopenimageio-dev openimageio-tools libimath-dev catch2 libcli11-dev
           libassimp-dev nlohmann-json3-dev
-          libegl-dev libgl-dev libegl1 libegl-mesa0 libgl1-mesa-dri)  # glcheck: Mesa's llvmpipe
+          libegl-dev libgl-dev libegl1 libegl-mesa0 libgl1-mesa-dri  # glcheck: Mesa's llvmpipe
+          clang libclang-rt-14-dev)                                  # CI: sanitizers, libFuzzer
 
 missing=()
 for p in "${packages[@]}"; do
@@ -26,4 +28,4 @@ fi
 build="${OITREF_BUILD_DIR:-build}"
 # shellcheck disable=SC2086
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release ${OITREF_CMAKE_ARGS:-} >/dev/null
-cmake --build "$build" -j "$(nproc)"
+cmake --build "$build" -j "$(nproc)" ${OITREF_BUILD_TARGET:+--target "$OITREF_BUILD_TARGET"}

@@ -65,6 +65,9 @@ TEST_CASE("bad input: malformed and truncated JSON name the file and the positio
   CHECK_THAT(sceneError(R"({"objects": [], "back": [0, 0, 0],})"), Catch::StartsWith("s.json: malformed JSON") &&
                                                                     Catch::Contains("line 1"));
   CHECK_THAT(sceneError("[1, 2]"), Catch::Contains("s.json: expected a JSON object at the top level"));
+  // Found by fuzz_scene_json: a number beyond double's range was an uncaught json out_of_range.
+  CHECK_THAT(sceneError(R"({"objects": [], "back": [1e999, 0, 0]})"), Catch::StartsWith("s.json: malformed JSON") &&
+                                                                      Catch::Contains("number overflow"));
 }
 
 TEST_CASE("bad input: wrong types name the field and what was expected", "[bad_input]") {
@@ -119,6 +122,12 @@ TEST_CASE("bad input: meshes with non-finite coordinates or bad indices, missing
   CHECK_THAT(meshError("empty.obj", ""), Catch::Contains("cannot load mesh") && Catch::Contains("empty.obj"));
   CHECK_THAT(errorOf([] { loadMesh((testDir() / "missing.obj").string()); }), Catch::Contains("missing.obj' does not exist"));
   CHECK_THAT(errorOf([] { loadMesh(testDir().string()); }), Catch::Contains("is not a regular file"));
+  // Found by fuzz_mesh: files on which Debian 12's Assimp aborts or hangs are errors too.
+  const std::string offCrash =
+      std::string("OFF\n4 2 00\n1 1 0\x0f") + "0 " + std::string(18, '\0') + "1 0\n3 0 1 2\n3 0 2 3\n";
+  CHECK_THAT(meshError("assert.off", offCrash), Catch::Contains("assert.off': the importer (Assimp) crashed on this file"));
+  CHECK_THAT(meshError("header.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"),
+             Catch::Contains("header.ply': PLY header has no end_header line"));
   // In a scene, the error also names the scene file and the object.
   write("tri_nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   const std::string scene = write("nan_scene.json", R"({"objects": [{"type": "mesh", "file_path": "tri_nan.obj"}]})");

@@ -11,6 +11,7 @@
 
 #include "blend/blend_unorm_integer.h"
 #include "blend/target_blender.h"
+#include "oitref/fp16.h"
 #include "oitref/blend.h"
 #include "oracles.h"
 #include "support.h"
@@ -78,10 +79,8 @@ glm::vec4 referenceBlend(const BlendState& st, glm::vec4 s, glm::vec4 d, glm::ve
 }
 
 #if defined(__x86_64__)
-bool hasF16C() { return __builtin_cpu_supports("f16c"); }
 __attribute__((target("f16c"))) uint32_t f16c(float v) { return _cvtss_sh(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC); }
 #else
-bool hasF16C() { return false; }
 uint32_t f16c(float) { return 0; }
 #endif
 
@@ -91,7 +90,7 @@ int64_t expectedChannelBits(const Format& f, int c, float v) {
     case ChannelEncoding::Unorm: return test::oracleUnorm(v, f.unormBits(c));
     case ChannelEncoding::Float32: return test::toBits(v);
     case ChannelEncoding::Half:
-      if (hasF16C()) return f16c(v);
+      if (cpuHasF16C()) return f16c(v);
       [[fallthrough]];
     default: {
       const MinifloatSpec spec = f.encoding() == ChannelEncoding::Half ? kHalfSpec

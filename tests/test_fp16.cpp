@@ -18,7 +18,6 @@ using oitref::test::fromBits;
 namespace {
 
 #if defined(__x86_64__)
-bool cpuHasF16C() { return __builtin_cpu_supports("f16c"); }
 
 __attribute__((target("f16c"))) uint16_t f16cEncode(float f, Rounding r) {
   return r == Rounding::TowardZero ? _cvtss_sh(f, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
@@ -26,7 +25,6 @@ __attribute__((target("f16c"))) uint16_t f16cEncode(float f, Rounding r) {
 }
 __attribute__((target("f16c"))) float f16cDecode(uint16_t h) { return _cvtsh_ss(h); }
 #else
-bool cpuHasF16C() { return false; }
 uint16_t f16cEncode(float, Rounding) { return 0; }
 float f16cDecode(uint16_t) { return 0; }
 #endif

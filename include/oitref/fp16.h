@@ -24,5 +24,7 @@ float decodeHalfPortable(uint16_t bits);
 
 // True when this build converts with F16C.
 bool halfUsesF16C();
+// True when the CPU running this has F16C (CPUID leaf 1, ECX bit 29); false off x86.
+bool cpuHasF16C();
 
 }  // namespace oitref

@@ -86,8 +86,10 @@ struct Scene {
 Scene loadScene(const std::string& path);
 // Parses scene JSON text; `path` names it in errors and anchors relative mesh paths.
 Scene parseScene(const std::string& jsonText, const std::string& path);
-// Loads a mesh through Assimp (OBJ, PLY ascii/binary with vertex colours, FBX, glTF, ...).
-TriangleMesh loadMesh(const std::string& path);
+// Loads a mesh through Assimp (OBJ, PLY ascii/binary with vertex colours, FBX, glTF, ...), in a
+// child process that may take at most `timeoutSeconds`: a malformed file is a SceneError, even
+// when it makes Assimp abort or hang.
+TriangleMesh loadMesh(const std::string& path, double timeoutSeconds = 120.0);
 
 struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -131,7 +131,7 @@ Scene parseScene(const std::string& jsonText, const std::string& path) {
   json j;
   try {
     j = json::parse(jsonText, nullptr, true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and numbers beyond double (out_of_range 406)
     r.fail("", std::string("malformed JSON: ") + e.what());
   }
   if (!j.is_object()) r.fail("", "expected a JSON object at the top level");

@@ -7,7 +7,7 @@
 
 int main(int argc, char** argv) {
 #if defined(OITREF_HAVE_F16C)
-  if (!__builtin_cpu_supports("f16c")) {
+  if (!oitref::cpuHasF16C()) {
     std::cerr << "oitref: this build uses the x86 F16C instructions, which this CPU lacks; "
                  "rebuild with -DOITREF_F16C=OFF (same results, portable code)\n";
     return 2;
