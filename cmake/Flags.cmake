@@ -54,5 +54,8 @@ if(_sanitize)
     target_compile_options(oitref_flags INTERFACE -fno-sanitize-recover=undefined)
   endif()
   target_link_options(oitref_flags INTERFACE -fsanitize=${_sanitize})
+  if(_sanitize MATCHES "thread")
+    target_compile_definitions(oitref_flags INTERFACE OITREF_STD_THREADS=1)  # see src/pipeline/renderer.cpp
+  endif()
   message(STATUS "oitref: sanitizers ${_sanitize}")
 endif()

@@ -2,11 +2,13 @@
 // oneTBB stays behind this file; stages only see a parallel-for.
 #include "oitref/renderer.h"
 
+#include <atomic>
 #include <chrono>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -20,6 +22,26 @@
 namespace oitref {
 namespace {
 
+#if defined(OITREF_STD_THREADS)
+// ThreadSanitizer builds (-DOITREF_SANITIZE=thread): Debian's oneTBB library is not instrumented,
+// so its task hand-offs look like races to TSan. There the same bodies run on plain std::threads,
+// which TSan sees completely: what is under test is the pipeline's own synchronisation (each tile
+// owned by one worker), not oneTBB's.
+thread_local int tlsThreads = 1;
+
+template <typename Body>
+void parallelFor(size_t n, Body&& body) {
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    const DefaultFloatingPoint fp;
+    for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
+  };
+  std::vector<std::thread> workers;
+  for (int t = 1; t < tlsThreads; ++t) workers.emplace_back(work);
+  work();
+  for (std::thread& w : workers) w.join();
+}
+#else
 // Every task of a draw runs under the default floating-point environment (fp_environment.h):
 // oneTBB copies the arena creator's settings to its workers, whatever they are.
 template <typename Body>
@@ -29,6 +51,7 @@ void parallelFor(size_t n, Body&& body) {
     body(i);
   });
 }
+#endif
 
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -106,6 +129,19 @@ void Framebuffer::validate() const {
 // An arena of exactly `threads` workers. oneTBB caps workers at the hardware count by default;
 // asking for more (to test determinism with 8 threads on 2 cores) raises the cap while this
 // renderer lives. With several such renderers alive at once, oneTBB applies the smallest cap.
+#if defined(OITREF_STD_THREADS)
+struct Renderer::Arena {
+  int threads;
+  detail::BinnedTriangles bins;  // reused between draws
+  explicit Arena(int t) : threads(t) {}
+  template <typename F>
+  void execute(F&& f) {
+    tlsThreads = threads;
+    f();
+    tlsThreads = 1;
+  }
+};
+#else
 struct Renderer::Arena {
   std::optional<tbb::global_control> oversubscribe;
   tbb::task_arena arena;
@@ -116,7 +152,12 @@ struct Renderer::Arena {
                                                                size_t(threads))
                           : std::nullopt),
         arena(threads) {}
+  template <typename F>
+  void execute(F&& f) {
+    arena.execute(std::forward<F>(f));
+  }
 };
+#endif
 
 Renderer::Renderer(RendererOptions options) : options_(options) {
   if (options_.threads <= 0) options_.threads = int(std::max(1u, std::thread::hardware_concurrency()));
@@ -141,7 +182,7 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
 
   auto t0 = std::chrono::steady_clock::now();
   detail::BinnedTriangles& bins = arena_->bins;
-  arena_->arena.execute([&] {
+  arena_->execute([&] {
     detail::setupAndBin(geometry, context, grid, bins, [](size_t n, auto&& body) { parallelFor(n, body); });
   });
   stats.trianglesRasterized = bins.counters.rasterized;
@@ -150,7 +191,7 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
 
   t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
-  arena_->arena.execute([&] {
+  arena_->execute([&] {
     parallelFor(size_t(grid.count()), [&](size_t tile) {
       if (bins.tileStart[tile] == bins.tileStart[tile + 1]) return;
       detail::FragmentStage stage(fb, state, program, &geometry, viewportRect(context));
@@ -170,7 +211,7 @@ DrawStats Renderer::drawFullscreen(Framebuffer& fb, const PipelineState& state, 
   DrawStats stats;
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
-  arena_->arena.execute([&] {
+  arena_->execute([&] {
     parallelFor(size_t(grid.count()), [&](size_t tile) {
       detail::FragmentStage stage(fb, state, program, nullptr, viewportRect(context));
       const detail::PixelRect r = grid.tileRect(int(tile));
