@@ -3,6 +3,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -45,4 +46,27 @@ TEST_CASE("image io: PFM is RGB fp32 with the bottom row first, EXR and PNG read
   CHECK_THROWS_WITH(tools::writeImage((dir / "b.png").string(), img), Catch::Contains("write it as .exr"));
   CHECK_THROWS_WITH(tools::writeImage((dir / "c.pfm").string(), Image(makeFormat(FormatId::RGBA16F), 2, 2)),
                     Catch::Contains("PFM holds fp32"));
+}
+
+TEST_CASE("image io: files appear complete under their final name or not at all", "[io]") {
+  const auto dir = std::filesystem::temp_directory_path() / "oitref-io-atomic";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  Image img(makeFormat(FormatId::RGBA8), 4, 4);
+  // A write that fails half-way (a 1x1 PNG cannot be written into a missing folder; a PFM of a
+  // folder's name cannot replace the folder) leaves neither the final name nor a temporary.
+  CHECK_THROWS_WITH(tools::writeImage((dir / "missing" / "a.png").string(), img), Catch::Contains("missing/a.png"));
+  std::filesystem::create_directories(dir / "taken.pfm");
+  Image f(makeFormat(FormatId::RGBA32F), 2, 2);
+  CHECK_THROWS(tools::writeImage((dir / "taken.pfm").string(), f));
+  CHECK_THROWS(tools::writeTextFile((dir / "taken.pfm").string(), "text"));
+  CHECK(std::filesystem::is_directory(dir / "taken.pfm"));
+  // Successful writes leave only the final files.
+  tools::writeImage((dir / "a.png").string(), img);
+  tools::writeImage((dir / "a.exr").string(), f);
+  tools::writeTextFile((dir / "manifest.txt").string(), "x 1\n");
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  CHECK(names == std::vector<std::string>{"a.exr", "a.png", "manifest.txt", "taken.pfm"});
 }

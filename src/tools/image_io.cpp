@@ -21,6 +21,17 @@ std::filesystem::path tempBeside(const std::filesystem::path& final) {
   return final.parent_path() / ("." + final.stem().string() + ".tmp" + std::to_string(::getpid()) + final.extension().string());
 }
 
+// The complete temporary becomes the final file in one rename; if that fails, nothing is left.
+void commit(const std::filesystem::path& temp, const std::filesystem::path& final) {
+  std::error_code ec;
+  std::filesystem::rename(temp, final, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw std::runtime_error(final.string() + ": cannot replace it: " + ec.message());
+  }
+}
+
 // Portable float map: "PF" (RGB) or "Pf" (grey), width and height, a negative scale for
 // little-endian data, then fp32 rows from the bottom up — the order oitref stores rows in.
 // One or two channels are written as grey (the first), three or four as RGB.
@@ -44,7 +55,7 @@ void writePfm(const std::string& path, const Image& image) {
       throw std::runtime_error(path + ": write failed");
     }
   }
-  std::filesystem::rename(temp, final);
+  commit(temp, final);
 }
 
 }  // namespace
@@ -59,7 +70,7 @@ void writeTextFile(const std::string& path, const std::string& text) {
       throw std::runtime_error(path + ": write failed");
     }
   }
-  std::filesystem::rename(temp, final);
+  commit(temp, final);
 }
 
 void writeImage(const std::string& path, const Image& image) {
@@ -115,7 +126,7 @@ void writeImage(const std::string& path, const Image& image) {
     std::filesystem::remove(temp);
     throw std::runtime_error(path + ": " + err);
   }
-  std::filesystem::rename(temp, final);
+  commit(temp, final);
 }
 
 }  // namespace oitref::tools
