@@ -4,6 +4,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -69,4 +70,43 @@ TEST_CASE("image io: files appear complete under their final name or not at all"
   for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   CHECK(names == std::vector<std::string>{"a.exr", "a.png", "manifest.txt", "taken.pfm"});
+}
+
+TEST_CASE("image io: 8- and 16-bit files read back as k / (2^n − 1), correctly rounded", "[io]") {
+  const auto dir = std::filesystem::temp_directory_path() / "oitref-io-read";
+  std::filesystem::create_directories(dir);
+  Image img(makeFormat(FormatId::RGBA8), 256, 1);
+  for (int k = 0; k < 256; ++k) std::memset(img.texel(k, 0), k, 4);
+  const std::string png = (dir / "ramp.png").string();
+  tools::writeImage(png, img);
+  const tools::ImageFile back = tools::readImage(png);
+  REQUIRE(back.channels == 4);
+  for (int k = 0; k < 256; ++k) {
+    INFO("k = " << k);
+    CHECK(back.image.fetch(k, 0) == img.fetch(k, 0));  // the RGBA8 decode of the same bits
+  }
+  // 16-bit: every k through OIIO's writer, against the correctly rounded quotient.
+  std::vector<uint16_t> ramp(65536);
+  for (size_t k = 0; k < ramp.size(); ++k) ramp[k] = uint16_t(k);
+  const std::string png16 = (dir / "ramp16.png").string();
+  {
+    auto out = OIIO::ImageOutput::create(png16);
+    REQUIRE(out);
+    REQUIRE(out->open(png16, OIIO::ImageSpec(256, 256, 1, OIIO::TypeDesc::UINT16)));
+    REQUIRE(out->write_image(OIIO::TypeDesc::UINT16, ramp.data()));
+    out->close();
+  }
+  const tools::ImageFile grey = tools::readImage(png16);
+  REQUIRE(grey.channels == 1);
+  // f is the correctly rounded k / 65535 when no neighbouring float is nearer; f·65535 is exact
+  // in double (24 + 16 bits), so the distances are compared exactly.
+  auto distance = [](float f, int k) { return std::fabs(double(f) * 65535.0 - double(k)); };
+  int wrong = 0;
+  for (int k = 0; k < 65536; ++k) {
+    const int x = k % 256, topRow = k / 256;
+    const float f = grey.image.fetch(x, 255 - topRow).r;
+    const double d = distance(f, k);
+    wrong += d > distance(std::nextafter(f, 2.0f), k) || d > distance(std::nextafter(f, -1.0f), k);
+  }
+  CHECK(wrong == 0);
 }

@@ -137,7 +137,9 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
   auto b = std::make_shared<glcheck::BlendCheckOptions>();
   CLI::App* blend = cmd->add_subcommand("blend", "Blend cases on the GL driver and in oitref; exit 1 on any bit difference");
   blend->add_option("--cases", b->cases, "CSV of cases as `oitref blend --cases` reads them (default: generate)");
-  blend->add_option("--generate", b->generate, "Number of random cases to generate")->capture_default_str();
+  blend->add_option("--generate", b->generate, "Number of random cases to generate (at most 10 million: ~1 GiB)")
+      ->capture_default_str()
+      ->check(CLI::Range(size_t(1), size_t(10'000'000)));
   blend->add_option("--seed", b->seed, "Seed of the generated cases")->capture_default_str();
   blend->add_flag("--nonfinite", b->nonFinite, "Generate NaN and infinities too");
   blend->add_option("--write-cases", b->writeCases, "Also write the cases as CSV (for `oitref blend --cases`)");

@@ -129,4 +129,43 @@ void writeImage(const std::string& path, const Image& image) {
   commit(temp, final);
 }
 
+ImageFile readImage(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw std::runtime_error(path + ": cannot read the image: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  const int w = spec.width, h = spec.height, channels = spec.nchannels;
+  if (w < 1 || h < 1 || w > Image::kMaxDimension || h > Image::kMaxDimension)
+    throw std::runtime_error(path + ": image size " + std::to_string(w) + "x" + std::to_string(h) + " is outside 1.." +
+                             std::to_string(Image::kMaxDimension));
+  if (channels < 1) throw std::runtime_error(path + ": the image has no channels");
+  // UNORM files are read as their integers and divided here, k / (2^n − 1) correctly rounded
+  // (OpenImageIO's own conversion multiplies by a rounded reciprocal).
+  const size_t samples = size_t(w) * size_t(h) * size_t(channels);
+  std::vector<float> pixels(samples);
+  const bool u8 = spec.format == OIIO::TypeDesc::UINT8, u16 = spec.format == OIIO::TypeDesc::UINT16;
+  bool ok = true;
+  if (u8 || u16) {
+    std::vector<uint16_t> ints(samples);
+    ok = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, ints.data());
+    // Read as 16 bits: an 8-bit k arrives as k·257, so k·257 / 65535 = k / 255 either way.
+    for (size_t i = 0; i < samples; ++i) pixels[i] = float(double(ints[i]) / 65535.0);
+  } else {
+    ok = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data());
+  }
+  if (!ok) throw std::runtime_error(path + ": " + in->geterror());
+  in->close();
+  const int kept = std::min(channels, 4);
+  ImageFile file{Image(makeFormat(kept == 1 ? FormatId::R32F : kept == 2 ? FormatId::RG32F : FormatId::RGBA32F), w, h),
+                 channels};
+  const Profile exact = exactProfile();
+  for (int row = 0; row < h; ++row)
+    for (int x = 0; x < w; ++x) {
+      const float* p = &pixels[(size_t(row) * size_t(w) + size_t(x)) * size_t(channels)];
+      glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f);
+      for (int c = 0; c < kept; ++c) v[c] = p[c];
+      file.image.store(x, h - 1 - row, v, exact);  // the file's first row is the top one
+    }
+  return file;
+}
+
 }  // namespace oitref::tools

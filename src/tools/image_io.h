@@ -1,4 +1,4 @@
-// Writing render targets to files through OpenImageIO, top row first.
+// Render targets to and from files through OpenImageIO, top row first in the file.
 //  * 8-bit UNORM targets (r8, rg8, rgba8): their bytes as they are (PNG, or any 8-bit format).
 //  * fp16 targets: EXR HALF channels holding the target's own bits.
 //  * fp32 targets: EXR FLOAT channels holding the target's own bits.
@@ -16,6 +16,16 @@ namespace oitref::tools {
 
 // Throws std::runtime_error naming the file and the reason.
 void writeImage(const std::string& path, const Image& image);
+
+// An image file read back as fp32 values: RGBA32F for 3 or 4 channels (alpha 1 when the file
+// has none), RG32F or R32F for 2 or 1; `channels` is what the file had. Rows are stored bottom
+// first, as every oitref Image. 8-bit files read as v/255 exactly, half floats exactly.
+struct ImageFile {
+  Image image;
+  int channels = 0;
+};
+// EXR, PNG, PFM or anything OpenImageIO reads. Throws std::runtime_error naming the file.
+ImageFile readImage(const std::string& path);
 // Text files (manifests, CSV results) written the same way: a temporary, then a rename.
 void writeTextFile(const std::string& path, const std::string& text);
 

@@ -68,6 +68,29 @@ uint64_t parseByteSize(const std::string& text, const std::string& what) {
   return uint64_t(bytes);
 }
 
+std::string jsonString(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char esc[8];
+      std::snprintf(esc, sizeof esc, "\\u%04x", unsigned(c));
+      o += esc;
+      continue;
+    }
+    o += c;
+  }
+  return o + "\"";
+}
+
+std::string jsonNumber(double v) {
+  if (std::isnan(v)) return "\"nan\"";
+  if (std::isinf(v)) return v > 0 ? "\"inf\"" : "\"-inf\"";
+  char text[40];
+  std::snprintf(text, sizeof text, "%.9g", v);
+  return text;
+}
+
 std::string hexFloat(float value) {
   if (std::isnan(value)) return std::signbit(value) ? "-nan" : "nan";
   char buf[48];

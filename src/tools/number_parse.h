@@ -20,6 +20,10 @@ void parseSize(const std::string& text, const std::string& what, int& width, int
 // A byte count: "4096", "512M", "1.5GiB", "8G" (K, M, G, T with or without "iB": powers of 1024).
 // Throws std::invalid_argument naming `what`.
 uint64_t parseByteSize(const std::string& text, const std::string& what);
+// JSON text: a quoted, escaped string; a number with 9 significant digits, or "nan"/"inf"/"-inf"
+// as strings (JSON has no such numbers).
+std::string jsonString(const std::string& s);
+std::string jsonNumber(double v);
 // Hex float that round-trips ("0x1.8p-3", "0x0p+0", "nan", "-inf").
 std::string hexFloat(float value);
 

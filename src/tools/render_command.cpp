@@ -23,15 +23,6 @@ struct RenderOptions {
   bool json = false;
 };
 
-std::string jsonString(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    o += c;
-  }
-  return o + "\"";
-}
-
 int runRender(const RenderOptions& o) {
   std::map<std::string, std::string> options;
   for (const std::string& kv : o.sets) {
