@@ -126,10 +126,8 @@ void Framebuffer::validate() const {
     throw std::invalid_argument("depth attachment size differs from the colour attachments");
 }
 
-// An arena of exactly `threads` workers. oneTBB caps workers at the hardware count by default;
-// asking for more (to test determinism with 8 threads on 2 cores) raises the cap while this
-// renderer lives. With several such renderers alive at once, oneTBB applies the smallest cap.
 #if defined(OITREF_STD_THREADS)
+// `threads` std::threads per parallel-for (see parallelFor above).
 struct Renderer::Arena {
   int threads;
   detail::BinnedTriangles bins;  // reused between draws
@@ -142,6 +140,9 @@ struct Renderer::Arena {
   }
 };
 #else
+// An arena of exactly `threads` workers. oneTBB caps workers at the hardware count by default;
+// asking for more (to test determinism with 8 threads on 2 cores) raises the cap while this
+// renderer lives. With several such renderers alive at once, oneTBB applies the smallest cap.
 struct Renderer::Arena {
   std::optional<tbb::global_control> oversubscribe;
   tbb::task_arena arena;
