@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <glm/geometric.hpp>
@@ -163,14 +164,20 @@ Scene loadScene(const std::string& path) {
   std::ostringstream text;
   text << in.rdbuf();
   Scene s = parseScene(text.str(), path);
+  // Each file is imported once, however many objects use it (a scene of 250 quads is one import).
+  std::map<std::string, TriangleMesh> loaded;
   for (size_t i = 0; i < s.objects.size(); ++i) {
     SceneObject& o = s.objects[i];
     if (o.type != ObjectType::Mesh) continue;
-    try {
-      o.mesh = loadMesh(o.filePath);
-    } catch (const SceneError& e) {
-      throw SceneError(path + ": objects[" + std::to_string(i) + "].file_path: " + e.what());
+    auto it = loaded.find(o.filePath);
+    if (it == loaded.end()) {
+      try {
+        it = loaded.emplace(o.filePath, loadMesh(o.filePath)).first;
+      } catch (const SceneError& e) {
+        throw SceneError(path + ": objects[" + std::to_string(i) + "].file_path: " + e.what());
+      }
     }
+    o.mesh = it->second;
   }
   return s;
 }
