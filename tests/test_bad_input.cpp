@@ -10,23 +10,15 @@
 
 #include "oitref/method.h"
 #include "oitref/scene_geometry.h"
+#include "temp_files.h"
 
 using namespace oitref;
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path testDir() {
-  const fs::path d = fs::temp_directory_path() / "oitref-bad-input-test";
-  fs::create_directories(d);
-  return d;
-}
-
-std::string write(const std::string& name, const std::string& bytes) {
-  const fs::path p = testDir() / name;
-  std::ofstream(p, std::ios::binary) << bytes;
-  return p.string();
-}
+fs::path testDir() { return test::tempFolder("oitref-bad-input-test"); }
+std::string write(const std::string& name, const std::string& bytes) { return test::writeFile(testDir(), name, bytes); }
 
 template <typename F>
 std::string errorOf(F&& f) {

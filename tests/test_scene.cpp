@@ -9,23 +9,15 @@
 #include <fstream>
 
 #include "oitref/scene_geometry.h"
+#include "temp_files.h"
 
 using namespace oitref;
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path testDir() {
-  const fs::path d = fs::temp_directory_path() / "oitref-scene-test";
-  fs::create_directories(d);
-  return d;
-}
-
-std::string write(const std::string& name, const std::string& text) {
-  const fs::path p = testDir() / name;
-  std::ofstream(p, std::ios::binary) << text;
-  return p.string();
-}
+fs::path testDir() { return test::tempFolder("oitref-scene-test"); }
+std::string write(const std::string& name, const std::string& text) { return test::writeFile(testDir(), name, text); }
 
 std::string errorOf(const std::string& json) {
   try {

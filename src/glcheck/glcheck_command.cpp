@@ -106,7 +106,7 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
   if (o.scenes.empty()) o.scenes = tools::sceneFiles("scenes");
   if (o.scenes.empty()) throw std::invalid_argument("no scenes given and none in ./scenes");
   if (!c.size.empty() && c.size != "scene") tools::parseSize(c.size, "--size", o.width, o.height);
-  o.memoryLimit = c.memoryLimit.empty() ? defaultMemoryLimit() : tools::parseByteSize(c.memoryLimit, "--memory-limit");
+  o.memoryLimit = tools::memoryLimitFrom(c.memoryLimit);
   o.methods.clear();
   for (size_t start = 0; start < c.methods.size();) {
     const size_t comma = c.methods.find(',', start);
@@ -161,7 +161,7 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
   scene->add_option("--min-share", s->options.minShare, "Share of pixels within tolerance a method needs")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
-  scene->add_option("--memory-limit", s->memoryLimit, "Refuse frames that need more, e.g. 8G (default: half the machine's memory)");
+  tools::addMemoryLimitOption(scene, s->memoryLimit);
   scene->add_option("--heatmaps", s->options.heatmaps, "Write GL and oitref images and error heatmaps into this folder");
   scene->callback([s, &exitCode] {
     exitCode = runReportingErrors("glcheck scene", [&] { return glcheck::runSceneCheckCommand(*s); });

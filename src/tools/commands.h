@@ -3,8 +3,13 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <exception>
 #include <iostream>
+#include <string>
+
+#include "oitref/method.h"
+#include "tools/number_parse.h"
 
 namespace oitref::tools {
 
@@ -18,6 +23,14 @@ int runReportingErrors(const char* name, Body&& body) {
     std::cerr << "oitref " << name << ": " << e.what() << "\n";
     return 2;
   }
+}
+
+// --memory-limit, as render, suite and glcheck scene take it: empty means defaultMemoryLimit().
+inline void addMemoryLimitOption(CLI::App* cmd, std::string& text) {
+  cmd->add_option("--memory-limit", text, "Refuse frames that need more, e.g. 8G (default: half the machine's memory)");
+}
+inline uint64_t memoryLimitFrom(const std::string& text) {
+  return text.empty() ? defaultMemoryLimit() : parseByteSize(text, "--memory-limit");
 }
 
 void addBlendCommand(CLI::App& app, int& exitCode);

@@ -37,7 +37,7 @@ int runRender(const RenderOptions& o) {
   const Profile profile = parseProfile(o.profile);
   const SceneGeometry geometry = buildSceneGeometry(scene);
   Renderer renderer(RendererOptions{o.threads, 64});
-  const uint64_t limit = o.memoryLimit.empty() ? defaultMemoryLimit() : parseByteSize(o.memoryLimit, "--memory-limit");
+  const uint64_t limit = memoryLimitFrom(o.memoryLimit);
   checkMemory(*method, scene.width, scene.height, geometry, limit);
   const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, limit};
   FrameResult result;
@@ -103,7 +103,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--dump", o->dump, "Write every colour attachment into this folder");
   cmd->add_option("--repeat", o->repeat, "Render N times, report the median frame time")->check(CLI::Range(1, 1000));
   cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
-  cmd->add_option("--memory-limit", o->memoryLimit, "Refuse frames that need more, e.g. 8G (default: half the machine's memory)");
+  addMemoryLimitOption(cmd, o->memoryLimit);
   cmd->callback([o, &exitCode] {
     exitCode = runReportingErrors("render", [&] {
       return runRender(*o);

@@ -29,13 +29,13 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   suite->add_option("--size", o->size, "Override the scenes' resolution, WxH");
   suite->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
   suite->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
-  suite->add_option("--memory-limit", o->memoryLimit, "Refuse frames that need more, e.g. 8G (default: half the machine's memory)");
+  addMemoryLimitOption(suite, o->memoryLimit);
   suite->callback([o, &exitCode] {
     exitCode = runReportingErrors("suite", [&] {
       std::vector<std::string> scenes = o->scenes.empty() ? sceneFiles("scenes") : o->scenes;
       int w = 0, h = 0;
       if (!o->size.empty()) parseSize(o->size, "--size", w, h);
-      const uint64_t limit = o->memoryLimit.empty() ? defaultMemoryLimit() : parseByteSize(o->memoryLimit, "--memory-limit");
+      const uint64_t limit = memoryLimitFrom(o->memoryLimit);
       Renderer renderer(RendererOptions{o->threads, 64});
       const Profile profile = parseProfile(o->profile);
       std::printf("oitref suite: %zu scenes, threads %d, profile %s\n\n", scenes.size(), renderer.threads(), profile.name.c_str());
