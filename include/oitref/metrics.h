@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 #include "oitref/image.h"
 
@@ -33,5 +34,37 @@ ImageDifference compareImages(const Image& a, const Image& b, double threshold);
 // An RGBA8 map of e_p / scaleMax through a perceptually ordered colour scale (black, blue,
 // magenta, orange, yellow, white at ≥ 1); zero error is black, non-finite pixels are pure green.
 Image errorHeatmap(const Image& a, const Image& b, double scaleMax);
+
+// The heatmap's colour for t = e / scaleMax in [0, 1] (clamped), as straight RGB in [0, 1]; the
+// report draws its legends with it.
+void heatmapColour(double t, float rgb[3]);
+
+// A heatmap with its legend under it: a bar of the colour scale from 0 to scaleMax and the two
+// end values written as numbers, so the PNG can be read on its own.
+Image errorHeatmapWithLegend(const Image& a, const Image& b, double scaleMax);
+
+// LDR ꟻLIP (Andersson, Nilsson, Akenine-Möller, Oskarsson, Åström, Fairchild, "FLIP: A
+// Difference Evaluator for Alternating Images", HPG 2020): the perceived difference between two
+// images shown on a display, per pixel in [0, 1]. Both images are taken as what a display shows:
+// their RGB values clamped to [0, 1] (NaN as 0) and read as sRGB-encoded. The steps, in the
+// paper's order, are documented in src/metrics/flip.cpp.
+struct FlipOptions {
+  // Pixels per degree of visual angle: a 0.7 m wide 3840-pixel monitor seen from 0.7 m, the
+  // paper's default.
+  double pixelsPerDegree = 0.7 * 3840 / 0.7 * 3.14159265358979323846 / 180;
+};
+struct FlipResult {
+  int width = 0, height = 0;
+  // Row-major, row 0 = image row y = 0 (GL window coordinates, like Image).
+  std::vector<double> error;    // ΔE = ΔE_c^(1 − ΔE_f)
+  std::vector<double> colour;   // ΔE_c, the colour pipeline
+  std::vector<double> feature;  // ΔE_f, the feature pipeline
+  double mean = 0, max = 0;     // of `error`
+  double at(const std::vector<double>& map, int x, int y) const { return map[size_t(y) * width + x]; }
+};
+// Throws std::invalid_argument when sizes or channel counts differ.
+FlipResult flip(const Image& reference, const Image& test, const FlipOptions& options = {});
+// The ꟻLIP error map through the heatmap's colour scale (1 is white), with its legend.
+Image flipHeatmapWithLegend(const FlipResult& result);
 
 }  // namespace oitref

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "metrics/heatmap_legend.h"
+
 namespace oitref {
 namespace {
 
@@ -74,25 +76,21 @@ ImageDifference compareImages(const Image& a, const Image& b, double threshold) 
 Image errorHeatmap(const Image& a, const Image& b, double scaleMax) {
   requireSameShape(a, b);
   const int channels = colourChannels(a.format());
-  // Stops of the colour scale at t = 0, 0.2, 0.4, 0.6, 0.8, 1.
-  static const float stops[6][3] = {{0, 0, 0}, {0.1f, 0.1f, 0.8f}, {0.7f, 0.1f, 0.7f},
-                                    {1, 0.5f, 0.1f}, {1, 0.9f, 0.2f}, {1, 1, 1}};
   Image map(makeFormat(FormatId::RGBA8), a.width(), a.height());
   const Profile profile = exactProfile();
   for (int y = 0; y < a.height(); ++y)
     for (int x = 0; x < a.width(); ++x) {
       double squares = 0, absSum = 0;
       const double e = pixelError(a, b, x, y, channels, squares, absSum);
-      glm::vec4 c(0, 1, 0, 1);
-      if (e >= 0) {
-        const double t = e <= 0 ? 0.0 : std::min(1.0, e / scaleMax);
-        const int i = std::min(4, int(t * 5));
-        const float f = float(t * 5 - i);
-        for (int k = 0; k < 3; ++k) c[k] = stops[i][k] + (stops[i + 1][k] - stops[i][k]) * f;
-      }
+      glm::vec4 c(0, 1, 0, 1);  // non-finite
+      if (e >= 0) heatmapColour(e <= 0 ? 0.0 : e / scaleMax, &c[0]);
       map.store(x, y, c, profile);
     }
   return map;
+}
+
+Image errorHeatmapWithLegend(const Image& a, const Image& b, double scaleMax) {
+  return withLegend(errorHeatmap(a, b, scaleMax), scaleMax);
 }
 
 }  // namespace oitref
