@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# README command 1: set up, build, and run the main job: every built-in scene with every OIT
-# method, images into ./out/suite, and a table per scene (time, memory, error vs the A-buffer).
+# README command 1: set up, build, and run the main job: `oitref study` over every built-in
+# scene (every method and its variants, timed and measured against the A-buffer), writing the
+# HTML report into ./out/study and printing where it is.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-build/oitref suite --out out/suite "$@"
+build/oitref study --out out/study "$@"

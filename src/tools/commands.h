@@ -39,6 +39,7 @@ void addDemoCommand(CLI::App& app, int& exitCode);
 void addRenderCommand(CLI::App& app, int& exitCode);
 void addMethodsCommand(CLI::App& app, int& exitCode);
 void addSuiteCommand(CLI::App& app, int& exitCode);
+void addStudyCommand(CLI::App& app, int& exitCode);
 void addGlcheckCommand(CLI::App& app, int& exitCode);  // only when built with OITREF_HAVE_GLCHECK
 
 }  // namespace oitref::tools

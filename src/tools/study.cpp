@@ -1,0 +1,165 @@
+#include "tools/study.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <stdexcept>
+
+#include "oitref/metrics.h"
+#include "tools/image_io.h"
+#include "tools/suite.h"
+
+namespace oitref::tools {
+namespace fs = std::filesystem;
+
+std::string StudyVariant::label() const {
+  if (options.empty()) return "default";
+  std::string s;
+  for (const auto& [k, v] : options) s += (s.empty() ? "" : " ") + k + "=" + v;
+  return s;
+}
+
+std::string StudyVariant::slug() const {
+  std::string s = method;
+  for (const auto& [k, v] : options) s += "_" + k + "-" + v;
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '-';
+  return s;
+}
+
+std::vector<StudyVariant> studyVariants() {
+  // The variants worth a row beside each method's defaults; a method missing here (or added
+  // later) is studied at its defaults.
+  const std::map<std::string, std::vector<std::map<std::string, std::string>>> extra = {
+      {"sorted", {{{"sort", "triangle"}}}},
+      {"wsum", {{{"accum", "rgba32f"}}}},
+      {"wavg", {{{"accum", "rgba32f"}}}},
+      {"wboit",
+       {// The thesis's "WBOIT 16F" (no weight, 16-bit colour), its other weights in RGBA32F,
+        // and McGuire–Bavoil's own set-up (RGBA16F + R8) with their equations 7–10.
+        {{"weight", "one"}, {"accum", "rgba16f"}},
+        {{"weight", "z3"}},
+        {{"weight", "z5"}},
+        {{"weight", "az3"}},
+        {{"weight", "az5"}, {"adaptive", "true"}},
+        {{"weight", "az5"}, {"accum", "rgba16f"}},
+        {{"weight", "mb7"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
+        {{"weight", "mb8"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
+        {{"weight", "mb9"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
+        {{"weight", "mb10"}, {"accum", "rgba16f"}, {"reveal", "r8"}}}},
+      {"mboit", {{{"bias", "0"}}, {{"warp", "log"}}, {{"accum", "rgba16f"}}}},
+      {"peel", {{{"passes", "1"}}, {{"passes", "2"}}, {{"passes", "4"}}, {{"passes", "8"}}, {{"passes", "16"}}}},
+      {"abuffer", {{{"precision", "double"}}}},
+  };
+  std::vector<MethodInfo> methods = allMethods();
+  std::stable_partition(methods.begin(), methods.end(), [](const MethodInfo& m) { return m.name == "abuffer"; });
+  std::vector<StudyVariant> out;
+  for (const MethodInfo& info : methods) {
+    out.push_back({info.name, {}});
+    const auto it = extra.find(info.name);
+    if (it != extra.end())
+      for (const auto& options : it->second) out.push_back({info.name, options});
+  }
+  return out;
+}
+
+namespace {
+
+int factNumber(const FrameResult& frame, const std::string& key) {
+  for (const auto& [k, v] : frame.facts)
+    if (k == key) return int(std::stoll(v));
+  return 0;
+}
+
+std::string noteOf(const FrameResult& frame) {
+  std::string peeled, all;
+  for (const auto& [k, v] : frame.facts) {
+    if (k == "passes that peeled a layer") peeled = v;
+    if (k == "all layers peeled") all = v;
+  }
+  if (peeled.empty()) return "";
+  return "peeled " + peeled + " layers" + (all == "yes" ? " (all)" : " (more remain)");
+}
+
+// Renders one variant: a warm-up, then `runs` timed frames, whose bits must all agree.
+FrameResult timedRender(Method& method, const FrameContext& context, int runs, std::vector<double>& runMs) {
+  FrameResult frame = method.render(context);
+  const std::string hash = frameHash(frame);
+  for (int i = 0; i < runs; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    frame = method.render(context);
+    runMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    if (frameHash(frame) != hash)
+      throw std::logic_error(method.info().name + ": frames of the same scene differ between runs (a determinism bug)");
+  }
+  return frame;
+}
+
+bool wanted(const StudyOptions& o, const std::string& method) {
+  return method == "abuffer" || method == "raycast" || o.methods.empty() ||
+         std::find(o.methods.begin(), o.methods.end(), method) != o.methods.end();
+}
+
+}  // namespace
+
+StudyResult runStudy(const StudyOptions& o, Renderer& renderer, const StudyProgress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  for (const std::string& m : o.methods) makeMethod(m);  // unknown names fail here, with a suggestion
+  std::vector<StudyVariant> variants;
+  for (const StudyVariant& v : studyVariants())
+    if (wanted(o, v.method)) variants.push_back(v);
+  StudyResult result;
+  result.threads = renderer.threads(), result.runs = o.runs, result.heatmapScale = o.heatmapScale;
+  result.profile = o.profile.name;
+  const int items = int(o.scenes.size() * variants.size());
+  int item = 0;
+  for (const std::string& path : o.scenes) {
+    Scene scene = loadScene(path);
+    if (o.width > 0) scene.width = o.width, scene.height = o.height;
+    const SceneGeometry geometry = buildSceneGeometry(scene);
+    const FrameContext context{scene, geometry, scene.width, scene.height, o.profile, renderer, o.memoryLimit};
+    StudyScene s;
+    s.name = sceneName(path);
+    s.width = scene.width, s.height = scene.height;
+    const fs::path dir = fs::path(o.outDir) / s.name;
+    fs::create_directories(dir);
+    FrameResult truth;
+    for (const StudyVariant& v : variants) {
+      progress(s.name + ": " + v.method + " " + v.label(), ++item, items);
+      std::unique_ptr<Method> method = makeMethod(v.method, v.options);
+      checkMemory(*method, scene.width, scene.height, geometry, o.memoryLimit);
+      StudyRow row;
+      row.variant = v;
+      FrameResult frame = timedRender(*method, context, o.runs, row.runMs);
+      std::vector<double> sorted = row.runMs;
+      std::sort(sorted.begin(), sorted.end());
+      row.ms = sorted[sorted.size() / 2];
+      if (s.rows.empty()) {  // the A-buffer at its defaults: the ground truth
+        s.fragments = uint64_t(factNumber(frame, "fragments"));
+        s.depthComplexityMax = factNumber(frame, "depth complexity max");
+        truth = frame;
+      }
+      row.fragmentsShaded = frame.fragmentsShaded();
+      row.fragmentsPerSecond = row.ms > 0 ? double(row.fragmentsShaded) / (row.ms / 1000) : 0;
+      row.bytesPerPixel = method->bytesPerPixel();
+      row.passes = int(frame.passes.size());
+      const ImageDifference d = compareImages(frame.finalFloat, truth.finalFloat, 1.0 / 255);
+      row.rmse = d.rmse, row.psnr = d.psnr, row.maxError = d.maxAbs, row.nonFinitePixels = d.nonFinitePixels;
+      row.flip = flip(truth.finalFloat, frame.finalFloat).mean;
+      row.note = noteOf(frame);
+      if (v.method == "raycast" && v.options.empty())
+        s.raycastRmse = d.rmse, s.raycastMax = d.maxAbs, s.raycastShareWithin = d.shareWithin();
+      row.image = s.name + "/" + v.slug() + ".png";
+      row.heatmap = s.name + "/" + v.slug() + "_error.png";
+      writeImage((fs::path(o.outDir) / row.image).string(), frame.final8);
+      writeImage((fs::path(o.outDir) / row.heatmap).string(),
+                 errorHeatmap(truth.finalFloat, frame.finalFloat, o.heatmapScale));
+      s.rows.push_back(row);
+    }
+    result.scenes.push_back(s);
+  }
+  result.totalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace oitref::tools

@@ -1,0 +1,115 @@
+// oitref study: its numbers recomputed independently from the renders they claim to measure, the
+// Pareto front by hand, and the written files parsed back.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "oitref/metrics.h"
+#include "temp_files.h"
+#include "tools/study.h"
+#include "tools/study_report.h"
+
+using namespace oitref;
+using namespace oitref::tools;
+
+namespace {
+
+StudyRow row(const std::string& method, double ms, double rmse) {
+  StudyRow r;
+  r.variant.method = method;
+  r.ms = ms, r.rmse = rmse;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("Study: the Pareto front by hand", "[study]") {
+  // (ms, RMSE): b is dominated by a (slower and worse), d by c, e ties c in error but is slower;
+  // f is exact and slowest, still on the front. Row 0 (the ground truth) never counts.
+  const std::vector<StudyRow> rows = {row("truth", 0.1, 0),  row("a", 1, 0.1),   row("b", 2, 0.2),
+                                      row("c", 3, 0.01),     row("d", 4, 0.05),  row("e", 5, 0.01),
+                                      row("f", 9, 0)};
+  const std::vector<size_t> front = paretoFront(rows, 1e-6);
+  CHECK(front == std::vector<size_t>{1, 3, 6});
+}
+
+TEST_CASE("Study: every row's numbers are those of its own render against the A-buffer", "[study]") {
+  const std::filesystem::path out = test::tempFolder("oitref_study_test");
+  StudyOptions o;
+  o.scenes = {OITREF_SOURCE_DIR "/scenes/squares.json"};
+  o.outDir = out.string();
+  o.width = 64, o.height = 48;
+  o.runs = 2;
+  o.methods = {"wboit", "peel"};
+  Renderer renderer(RendererOptions{2, 64});
+  int calls = 0, lastTotal = 0;
+  const StudyResult result = runStudy(o, renderer, [&](const std::string&, int i, int n) {
+    CHECK(i == ++calls);
+    lastTotal = n;
+  });
+  REQUIRE(result.scenes.size() == 1);
+  const StudyScene& s = result.scenes[0];
+  CHECK(calls == lastTotal);
+  CHECK(int(s.rows.size()) == calls);
+  // The A-buffer first (its variants too), the ray cast always, only the methods asked for.
+  REQUIRE(s.rows[0].variant.method == "abuffer");
+  CHECK(s.rows[0].rmse == 0);
+  for (const StudyRow& r : s.rows) {
+    CHECK((r.variant.method == "abuffer" || r.variant.method == "raycast" || r.variant.method == "wboit" ||
+           r.variant.method == "peel"));
+    CHECK(r.runMs.size() == 2);
+    CHECK(std::filesystem::exists(out / r.image));
+    CHECK(std::filesystem::exists(out / r.heatmap));
+  }
+  CHECK(s.raycastRmse < 1e-6);
+
+  // Recompute one row from scratch.
+  Scene scene = loadScene(o.scenes[0]);
+  scene.width = 64, scene.height = 48;
+  const SceneGeometry geometry = buildSceneGeometry(scene);
+  const FrameContext context{scene, geometry, 64, 48, exactProfile(), renderer};
+  const FrameResult truth = makeMethod("abuffer")->render(context);
+  const auto mb7 = std::find_if(s.rows.begin(), s.rows.end(), [](const StudyRow& r) {
+    return r.variant.method == "wboit" && r.variant.options.count("weight") && r.variant.options.at("weight") == "mb7";
+  });
+  REQUIRE(mb7 != s.rows.end());
+  std::unique_ptr<Method> method = makeMethod("wboit", mb7->variant.options);
+  const FrameResult frame = method->render(context);
+  const ImageDifference d = compareImages(frame.finalFloat, truth.finalFloat, 0);
+  CHECK(mb7->rmse == d.rmse);
+  CHECK(mb7->maxError == d.maxAbs);
+  CHECK(mb7->flip == flip(truth.finalFloat, frame.finalFloat).mean);
+  CHECK(mb7->bytesPerPixel == method->bytesPerPixel());
+  CHECK(mb7->fragmentsShaded == frame.fragmentsShaded());
+  CHECK(mb7->fragmentsPerSecond == Approx(double(frame.fragmentsShaded()) / (mb7->ms / 1000)));
+
+  // The files parse back with the same numbers.
+  const nlohmann::json json = nlohmann::json::parse(studyJson(result));
+  REQUIRE(json["scenes"].size() == 1);
+  REQUIRE(json["scenes"][0]["rows"].size() == s.rows.size());
+  const auto& first = json["scenes"][0]["rows"][1];
+  CHECK(first["method"] == s.rows[1].variant.method);
+  CHECK(first["rmse"].get<double>() == Approx(s.rows[1].rmse).epsilon(1e-8).margin(1e-300));
+  std::istringstream csv(studyCsv(result));
+  std::string line;
+  int lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  CHECK(lines == int(s.rows.size()) + 1);
+  const std::string html = studyHtml(result);
+  CHECK(html.find("<svg class=scatter") != std::string::npos);
+  CHECK(html.find("id=\"scene-squares\"") != std::string::npos);
+  CHECK(html.find("id=memory") != std::string::npos);
+}
+
+TEST_CASE("Study: unknown methods are refused before anything renders", "[study]") {
+  StudyOptions o;
+  o.scenes = {OITREF_SOURCE_DIR "/scenes/squares.json"};
+  o.outDir = test::tempFolder("oitref_study_bad").string();
+  o.methods = {"wbiot"};
+  Renderer renderer(RendererOptions{1, 64});
+  int calls = 0;
+  CHECK_THROWS_WITH(runStudy(o, renderer, [&](const std::string&, int, int) { ++calls; }), Catch::Contains("wboit"));
+  CHECK(calls == 0);
+}
