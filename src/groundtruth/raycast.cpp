@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
@@ -93,6 +94,16 @@ class EmbreeScene {
     hits.erase(std::unique(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
                  return a.part == b.part && a.primitive == b.primitive;
                }), hits.end());
+    // A ray through an edge or vertex shared by triangles of one part hits each of them at the
+    // same distance; the rasterizer's tie rule (top-left) gives such a pixel to exactly one of
+    // them, so the surface is counted once here too: hits of one part whose distances agree to
+    // 1e-6 relative are one hit, the lowest primitive kept.
+    std::stable_sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
+      return std::tie(a.part, a.viewDepth) < std::tie(b.part, b.viewDepth);
+    });
+    hits.erase(std::unique(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
+                 return a.part == b.part && std::fabs(a.viewDepth - b.viewDepth) <= 1e-6 * std::fabs(a.viewDepth);
+               }), hits.end());
   }
 
  private:
@@ -140,8 +151,20 @@ class Raycast final : public Method {
       std::vector<Hit> hits;
       for (int x = 0; x < c.width; ++x) {
         const glm::dvec2 ndc(2.0 * (x + 0.5) / c.width - 1.0, 2.0 * (y + 0.5) / c.height - 1.0);
+        // Along the pixel's line from the near plane (NDC z = −1) to the far plane (z = 1); when
+        // far/near is so large that the far plane's point is at infinity in the fp32
+        // projection (w = 0: an infinite direction), to NDC z = 0 (view depth 2·near·far /
+        // (near + far)) instead.
         const glm::dvec4 a = inverse * glm::dvec4(ndc, -1.0, 1.0), b = inverse * glm::dvec4(ndc, 1.0, 1.0);
-        const glm::dvec3 origin = glm::dvec3(cam.position), direction = glm::dvec3(b) / b.w - glm::dvec3(a) / a.w;
+        const glm::dvec3 origin = glm::dvec3(cam.position);
+        glm::dvec3 direction = glm::dvec3(b) / b.w - glm::dvec3(a) / a.w;
+        if (!std::isfinite(direction.x) || !std::isfinite(direction.y) || !std::isfinite(direction.z)) {
+          const glm::dvec4 m = inverse * glm::dvec4(ndc, 0.0, 1.0);
+          direction = glm::dvec3(m) / m.w - glm::dvec3(a) / a.w;
+        }
+        if (!std::isfinite(direction.x) || !std::isfinite(direction.y) || !std::isfinite(direction.z))
+          throw std::runtime_error("raycast: the camera gives no finite ray through pixel (" + std::to_string(x) + ", " +
+                                   std::to_string(y) + ")");
         scene.allHits(glm::vec3(origin), glm::vec3(direction), hits);
         for (Hit& h : hits) h.viewDepth = double(h.viewDepth) * glm::dot(glm::dvec3(glm::vec3(direction)), forward);
         std::erase_if(hits, [&](const Hit& h) { return h.viewDepth < cam.nearPlane || h.viewDepth > cam.farPlane; });

@@ -16,6 +16,7 @@
 // non-finite roots fall back to absorbance = overestimation (the fragment's own layer).
 // ln and exp are det_math.h's, so the weights are the same bits on every machine.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "methods/det_math.h"
@@ -25,17 +26,22 @@
 namespace oitref::methods {
 
 // The moment reconstruction, in fp32 as a shader would (exposed for the tests).
-float mboitAbsorbance(const float b[4], float z, float bias, float overestimation) {
+float mboitAbsorbance(const float b[4], float z, float bias, float overestimation, bool* fellBack) {
+  if (fellBack) *fellBack = false;
+  auto fallBack = [&] {
+    if (fellBack) *fellBack = true;
+    return overestimation;
+  };
   const float biasVector[4] = {0.0f, 0.375f, 0.0f, 0.375f};
   float m[4];
   for (int i = 0; i < 4; ++i) m[i] = (1.0f - bias) * b[i] + bias * biasVector[i];
   // Cholesky of [1 m0 m1; m0 m1 m2; m1 m2 m3] = L·D·Lᵀ.
   const float d11 = m[1] - m[0] * m[0];
   const float l21d11 = m[2] - m[0] * m[1];
-  if (!(d11 > 0.0f)) return overestimation;
+  if (!(d11 > 0.0f)) return fallBack();
   const float l21 = l21d11 / d11;
   const float d22 = (m[3] - m[1] * m[1]) - l21d11 * l21;
-  if (!(d22 > 0.0f)) return overestimation;
+  if (!(d22 > 0.0f)) return fallBack();
   // Solve L·D·Lᵀ·c = (1, z, z²).
   float c0 = 1.0f, c1 = z - m[0], c2 = z * z - m[1] - l21 * c1;
   c1 = c1 / d11;
@@ -47,7 +53,7 @@ float mboitAbsorbance(const float b[4], float z, float bias, float overestimatio
   const float disc = p * p * 0.25f - q;
   const float r = std::sqrt(disc);
   const float z1 = -p * 0.5f - r, z2 = -p * 0.5f + r;
-  if (!std::isfinite(z1) || !std::isfinite(z2)) return overestimation;
+  if (!std::isfinite(z1) || !std::isfinite(z2)) return fallBack();
   // Newton form of the quadratic through (z, f0), (z1, f1), (z2, f2).
   const float f0 = overestimation, f1 = z1 < z ? 1.0f : 0.0f, f2 = z2 < z ? 1.0f : 0.0f;
   const float f01 = (f1 - f0) / (z1 - z);
@@ -58,7 +64,7 @@ float mboitAbsorbance(const float b[4], float z, float bias, float overestimatio
   const float a1 = f01 - f012 * (z + z1);
   const float a0 = f0 - f01 * z + f012 * z * z1;
   const float absorbance = a0 + a1 * m[0] + a2 * m[1];
-  return std::isfinite(absorbance) ? absorbance : overestimation;
+  return std::isfinite(absorbance) ? absorbance : fallBack();
 }
 
 namespace {
@@ -121,13 +127,16 @@ class Mboit final : public Method {
     fb.color[1] = &reveal;
     fb.depth = &t.depth("depth");
     const float bias = bias_, overestimation = overestimation_;
+    std::atomic<uint64_t> fallbacks{0};  // a sum: the same for any order of the fragments
     run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
       const float b0 = b0Image.fetch(in.x, in.y).r;
       float w = 1.0f;
       if (b0 >= 0.00100050033f) {
         const glm::vec4 m = moments.fetch(in.x, in.y) / b0;
         const float b[4] = {m.x, m.y, m.z, m.w};
-        const float absorbance = mboitAbsorbance(b, warp(in), bias, overestimation);
+        bool fellBack = false;
+        const float absorbance = mboitAbsorbance(b, warp(in), bias, overestimation, &fellBack);
+        if (fellBack) fallbacks.fetch_add(1, std::memory_order_relaxed);
         w = std::clamp(float(detExp(-double(b0) * double(absorbance))), 0.0f, 1.0f);
       }
       out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
@@ -139,6 +148,7 @@ class Mboit final : public Method {
       return true;
     });
     t.finish(result, "opaque");
+    result.facts.emplace_back("moment reconstructions that fell back", std::to_string(fallbacks.load()));
     return result;
   }
 

@@ -23,7 +23,10 @@ std::unique_ptr<Method> makeWboit(const MethodOptions& options);
 const MethodInfo& mboitInfo();
 std::unique_ptr<Method> makeMboit(const MethodOptions& options);
 // The 4-moment reconstruction (mboit.cpp), for the tests.
-float mboitAbsorbance(const float b[4], float z, float bias, float overestimation);
+// `fellBack`, when given, is set when the moments could not be used (the Hankel matrix is not
+// positive definite, or the roots or the result are not finite) and the fragment's own layer
+// (`overestimation`) was returned instead.
+float mboitAbsorbance(const float b[4], float z, float bias, float overestimation, bool* fellBack = nullptr);
 const MethodInfo& peelInfo();
 std::unique_ptr<Method> makePeel(const MethodOptions& options);
 const MethodInfo& raycastInfo();

@@ -23,9 +23,9 @@ class Wavg final : public Method {
   const MethodInfo& info() const override { return wavgInfo(); }
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
-    const bool half = accumFormat_ == "rgba16f";
     a.push_back(colorAttachment("accum", accumFormat_, "C2q: Σ(c·α, α), blended ONE, ONE"));
-    a.push_back(colorAttachment("count", half ? "r16f" : "r32f", "C2s: n, blended ONE, ONE"));
+    // "rgba16f" → "r16f", "rgba:e8m7" → "r:e8m7".
+    a.push_back(colorAttachment("count", "r" + accumFormat_.substr(4), "C2s: n, blended ONE, ONE"));
     return a;
   }
   FrameResult render(const FrameContext& context) override {
@@ -73,7 +73,9 @@ const MethodInfo& wavgInfo() {
   static const MethodInfo info{
       "wavg",
       "weighted average (Bavoil–Myers; thesis Algorithm 3, eq. 2.2)",
-      {{"accum", "rgba16f", "accumulation format; the count uses r16f or r32f to match", {"rgba16f", "rgba32f"}},
+      {{"accum", "rgba16f",
+        "accumulation format (bfloat16 = rgba:e8m7, fp8 = rgba:e5m2); the count uses the same encoding in one channel",
+        {"rgba16f", "rgba32f", "rgba:e8m7", "rgba:e5m2"}},
        {"transmittance", "bavoil_myers",
         "background weight: (1 − Σα/n)^n as published (and as the thesis's figures show), or (Σα/n)^n as "
         "the thesis's eq. 2.2 prints it",

@@ -103,7 +103,8 @@ const MethodInfo& wboitInfo() {
   static const MethodInfo info{
       "wboit",
       "weighted blended OIT (McGuire–Bavoil listing 3; thesis Algorithm 4)",
-      {{"accum", "rgba32f", "accumulation format (the thesis's Algorithm 4 uses RGBA32F)", {"rgba16f", "rgba32f"}},
+      {{"accum", "rgba32f", "accumulation format (the thesis's Algorithm 4 uses RGBA32F; bfloat16 = rgba:e8m7, fp8 = rgba:e5m2)",
+        {"rgba16f", "rgba32f", "rgba:e8m7", "rgba:e5m2"}},
        {"reveal", "r32f", "revealage format (thesis: R32F; McGuire–Bavoil: R8)", {"r8", "r16f", "r32f"}},
        {"weight", "az5", "w(z, α): thesis W1–W5 (one, z3, z5, az3, az5) or McGuire–Bavoil eq. 7–10 (mb7 … mb10)",
         {"one", "z3", "z5", "az3", "az5", "mb7", "mb8", "mb9", "mb10"}},

@@ -40,6 +40,7 @@ void addRenderCommand(CLI::App& app, int& exitCode);
 void addMethodsCommand(CLI::App& app, int& exitCode);
 void addSuiteCommand(CLI::App& app, int& exitCode);
 void addStudyCommand(CLI::App& app, int& exitCode);
+void addStressCommand(CLI::App& app, int& exitCode);
 void addGlcheckCommand(CLI::App& app, int& exitCode);  // only when built with OITREF_HAVE_GLCHECK
 
 }  // namespace oitref::tools
