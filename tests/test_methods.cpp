@@ -10,116 +10,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "method_fixture.h"
 #include "oitref/method.h"
 
 using namespace oitref;
-
-namespace {
-
-TriangleMesh quadMesh() {
-  TriangleMesh m;
-  m.positions = {{-0.5f, -0.5f, 0}, {0.5f, -0.5f, 0}, {0.5f, 0.5f, 0}, {-0.5f, 0.5f, 0}};
-  m.colors.assign(4, glm::vec4(1.0f));
-  m.indices = {0, 1, 2, 0, 2, 3};
-  return m;
-}
-
-SceneObject quad(glm::vec3 position, float scale, glm::vec4 color, glm::vec3 rotation = glm::vec3(0)) {
-  SceneObject o;
-  o.mesh = quadMesh();
-  o.position = position;
-  o.scale = scale;
-  o.colorOverride = color;
-  o.rotationDegrees = rotation;
-  return o;
-}
-
-// Overlapping, tilted and intersecting translucent quads (α from 0.05 to 0.95) and a particle
-// cloud, over an opaque backdrop that a few quads reach behind.
-Scene testScene() {
-  Scene s;
-  s.width = 64;
-  s.height = 48;
-  s.background = {0.2f, 0.3f, 0.4f};
-  s.camera.position = {0, 0, 6};
-  s.camera.target = {0, 0, 0};
-  s.camera.fovYDegrees = 50;
-  s.objects.push_back(quad({0, 0, -2}, 5, {0.8f, 0.7f, 0.2f, 1.0f}));
-  s.objects.back().transparentOverride = false;
-  s.objects.push_back(quad({-0.6f, 0.3f, 1.0f}, 2.0f, {1.0f, 0.1f, 0.1f, 0.35f}));
-  s.objects.push_back(quad({0.5f, 0.2f, 0.2f}, 2.2f, {0.1f, 0.9f, 0.2f, 0.6f}, {0, 35, 0}));
-  s.objects.push_back(quad({0.0f, -0.4f, -0.5f}, 2.5f, {0.2f, 0.2f, 1.0f, 0.9f}, {20, 0, 10}));
-  s.objects.push_back(quad({-0.3f, -0.2f, 0.6f}, 1.5f, {1.0f, 1.0f, 1.0f, 0.05f}));
-  s.objects.push_back(quad({0.2f, 0.1f, -2.6f}, 1.0f, {0.5f, 0.5f, 0.5f, 0.95f}));  // behind the backdrop
-  SceneObject cloud;
-  cloud.type = ObjectType::Particles;
-  cloud.particleCount = 12;
-  cloud.seed = 4;
-  cloud.position = {0.3f, 0.0f, 1.5f};
-  cloud.scale = 1.0f;
-  cloud.particleSize = 0.6f;
-  cloud.colorOverride = glm::vec4(0.9f, 0.9f, 0.9f, 0.7f);
-  s.objects.push_back(cloud);
-  return s;
-}
-
-struct Reference {
-  Scene scene;
-  FrameResult abuffer;
-  Image background;  // C0 per pixel in fp32: the scene without its transparent objects
-};
-
-FrameResult render(const Scene& scene, const std::string& method, const std::map<std::string, std::string>& options = {},
-                   int threads = 2) {
-  Renderer r(RendererOptions{threads, 16});
-  const SceneGeometry g = buildSceneGeometry(scene);
-  return makeMethod(method, options)->render(FrameContext{scene, g, scene.width, scene.height, exactProfile(), r});
-}
-
-const Reference& reference() {
-  static const Reference ref = [] {
-    Reference r;
-    r.scene = testScene();
-    r.abuffer = render(r.scene, "abuffer");
-    Scene opaqueOnly = r.scene;
-    std::erase_if(opaqueOnly.objects, [](const SceneObject& o) { return o.isTransparent(); });
-    r.background = render(opaqueOnly, "over").finalFloat;
-    return r;
-  }();
-  return ref;
-}
-
-// Calls check(x, y, fragments, C0) for every pixel.
-template <typename Check>
-void forEachPixel(const Check& check) {
-  const Reference& ref = reference();
-  const int w = ref.scene.width;
-  for (int y = 0; y < ref.scene.height; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t p = size_t(y) * w + x;
-      std::vector<TransparentFragment> f(ref.abuffer.fragments.begin() + std::ptrdiff_t(ref.abuffer.fragmentStart[p]),
-                                         ref.abuffer.fragments.begin() + std::ptrdiff_t(ref.abuffer.fragmentStart[p + 1]));
-      check(x, y, f, glm::dvec3(glm::vec3(ref.background.fetch(x, y))));
-    }
-}
-
-void requireClose(const Image& got, int x, int y, const glm::dvec3& want, double bound, const char* what) {
-  const glm::vec4 g = got.fetch(x, y);
-  for (int k = 0; k < 3; ++k)
-    if (!(std::abs(double(g[k]) - want[k]) <= bound))
-      FAIL(what << " pixel " << x << "," << y << " channel " << k << ": got " << g[k] << ", closed form " << want[k]
-                << ", bound " << bound);
-}
-
-glm::dvec3 overBackToFront(std::vector<TransparentFragment> f, glm::dvec3 c) {
-  std::stable_sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.viewDepth < b.viewDepth; });
-  for (size_t i = f.size(); i-- > 0;) c = glm::dvec3(glm::vec3(f[i].color)) * double(f[i].color.a) + c * (1.0 - f[i].color.a);
-  return c;
-}
-
-constexpr double kU32 = 1.0 / (1 << 24), kU16 = 1.0 / (1 << 11);
-
-}  // namespace
+using namespace oitref::test;
 
 TEST_CASE("methods: the A-buffer composite equals OVER of its sorted fragments in double", "[methods]") {
   int layered = 0;

@@ -143,6 +143,11 @@ BlendState revealageBlend() {
   return BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);
 }
 
+BlendState singleTargetWeightedBlend() {
+  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One, BlendFactor::One,
+                              BlendFactor::Zero, BlendFactor::OneMinusSrcAlpha);
+}
+
 BlendState compositeBlend() {
   return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::OneMinusSrcAlpha,
                               BlendFactor::SrcAlpha, BlendFactor::Zero, BlendFactor::One);

@@ -97,6 +97,8 @@ BlendState revealageBlend();  // Π(1 − α): zero, one_minus_src_color
 BlendState compositeBlend();
 // Front-to-back "under" (peeling): RGB C_s·α_d + C_d, alpha α_d·(1 − α_s): dst_alpha, one; zero, one_minus_src_alpha.
 BlendState underBlend();
+// McGuire–Bavoil listing 4, one function for every target: RGB one, one; alpha zero, one_minus_src_alpha.
+BlendState singleTargetWeightedBlend();
 // Premultiplied layers onto the background: C_s + C_d·α_s, alpha kept: one, src_alpha; zero, one.
 BlendState premultipliedOntoBackgroundBlend();
 // Depth state of the transparent passes: test LESS against the opaque depth, no writes.

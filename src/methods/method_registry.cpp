@@ -24,6 +24,7 @@ const std::vector<Entry>& registry() {
       {methods::wsumInfo, methods::makeWsum},     {methods::wavgInfo, methods::makeWavg},
       {methods::wboitInfo, methods::makeWboit},   {methods::mboitInfo, methods::makeMboit},
       {methods::peelInfo, methods::makePeel},
+      {methods::screendoorInfo, methods::makeScreendoor},
       {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},
   };
   return entries;

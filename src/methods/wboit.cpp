@@ -12,6 +12,13 @@
 //   mb9:  α·clamp(0.03 / (1e-5 + (|z|/200)⁴), 1e-2, 3e3)
 //   mb10: α·max(1e-2, 3e3·(1 − d)³)
 // Powers are products (methods/power.h), so the weights are the same bits everywhere.
+//
+// layout=single is McGuire–Bavoil listing 4, for GPUs without per-target blend state: one blend
+// function for every target, with a separate alpha factor —
+//   accum   = (Σ c·α·w, Π(1 − α))   RGB ONE, ONE; alpha ZERO, ONE_MINUS_SRC_ALPHA; cleared to (0,0,0,1)
+//   weights = Σ α·w                 (R only: ONE, ONE)
+// so the revealage lives in accum's alpha, at accum's precision (the `reveal` option does not
+// apply), and the composite is (accum.rgb / clamp(weights, 1e-4, 5e4), accum.a).
 #include <algorithm>
 
 #include "methods/method_common.h"
@@ -49,10 +56,15 @@ class Wboit final : public Method {
  public:
   explicit Wboit(const MethodOptions& o)
       : accumFormat_(o.text("accum")), revealFormat_(o.text("reveal")), weight_(parseWeight(o.text("weight"))),
-        adaptive_(o.flag("adaptive")) {}
+        adaptive_(o.flag("adaptive")), single_(o.text("layout") == "single") {}
   const MethodInfo& info() const override { return wboitInfo(); }
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
+    if (single_) {
+      a.push_back(colorAttachment("accum", accumFormat_, "(Σ c·α·w, Π(1 − α)): RGB ONE, ONE; alpha ZERO, ONE_MINUS_SRC_ALPHA"));
+      a.push_back(colorAttachment("weights", "r" + accumFormat_.substr(4), "Σ α·w, the same blend function"));
+      return a;
+    }
     a.push_back(colorAttachment("accum", accumFormat_, "C2q: Σ(c·α·w, α·w), blended ONE, ONE"));
     a.push_back(colorAttachment("reveal", revealFormat_, "C2s: Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
     return a;
@@ -62,6 +74,11 @@ class Wboit final : public Method {
     FrameTargets t(attachments(), context.width, context.height);
     PassRunner run(context, result);
     run.opaquePass(t);                                               // steps 1–3
+    if (single_) {
+      accumulateSingle(context, t, run);
+      t.finish(result, "opaque");
+      return result;
+    }
     Image& accum = t.color("accum");
     Image& reveal = t.color("reveal");
     const DepthBuffer& depth = t.depth("depth");
@@ -92,9 +109,37 @@ class Wboit final : public Method {
   }
 
  private:
+  // Listing 4.
+  void accumulateSingle(const FrameContext& context, FrameTargets& t, PassRunner& run) {
+    Image& accum = t.color("accum");
+    Image& weights = t.color("weights");
+    const DepthBuffer& depth = t.depth("depth");
+    accum.clear({0, 0, 0, 1}, context.profile);
+    weights.clear({0, 0, 0, 1}, context.profile);
+    Framebuffer fb;
+    fb.color[0] = &accum;
+    fb.color[1] = &weights;
+    fb.depth = &t.depth("depth");
+    PipelineState st = transparentState(context.profile, singleTargetWeightedBlend());
+    const Weight kind = weight_;
+    const bool adaptive = adaptive_;
+    run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+      float z = in.depth;
+      if (adaptive) z = z / float(depth.depth(in.x, in.y));
+      const float w = weight(kind, c.a, z, in.viewDepth);
+      out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a));
+      out.write(1, glm::vec4(c.a * w));
+    });
+    run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {
+      const glm::vec4 a = accum.fetch(in.x, in.y);
+      s = weightedResolve(glm::vec4(glm::vec3(a), weights.fetch(in.x, in.y).r), a.a);
+      return true;
+    });
+  }
+
   std::string accumFormat_, revealFormat_;
   Weight weight_;
-  bool adaptive_;
+  bool adaptive_, single_;
 };
 
 }  // namespace
@@ -108,7 +153,9 @@ const MethodInfo& wboitInfo() {
        {"reveal", "r32f", "revealage format (thesis: R32F; McGuire–Bavoil: R8)", {"r8", "r16f", "r32f"}},
        {"weight", "az5", "w(z, α): thesis W1–W5 (one, z3, z5, az3, az5) or McGuire–Bavoil eq. 7–10 (mb7 … mb10)",
         {"one", "z3", "z5", "az3", "az5", "mb7", "mb8", "mb9", "mb10"}},
-       {"adaptive", "false", "thesis weights on z / z_s, z_s the opaque depth at the pixel", {"true", "false"}}}};
+       {"adaptive", "false", "thesis weights on z / z_s, z_s the opaque depth at the pixel", {"true", "false"}},
+       {"layout", "mrt", "mrt: listing 3 (per-target blending); single: listing 4 (one blend function, revealage in accum.a)",
+        {"mrt", "single"}}}};
   return info;
 }
 std::unique_ptr<Method> makeWboit(const MethodOptions& o) { return std::make_unique<Wboit>(o); }

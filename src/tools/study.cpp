@@ -46,7 +46,10 @@ std::vector<StudyVariant> studyVariants() {
         {{"weight", "mb7"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
         {{"weight", "mb8"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
         {{"weight", "mb9"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
-        {{"weight", "mb10"}, {"accum", "rgba16f"}, {"reveal", "r8"}}}},
+        {{"weight", "mb10"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
+        // Listing 4: one blend function, the revealage in accum's alpha.
+        {{"layout", "single"}, {"accum", "rgba16f"}}}},
+      {"screendoor", {{{"mask", "8"}}}},
       {"mboit", {{{"bias", "0"}}, {{"warp", "log"}}, {{"accum", "rgba16f"}}}},
       {"peel", {{{"passes", "1"}}, {{"passes", "2"}}, {{"passes", "4"}}, {{"passes", "8"}}, {{"passes", "16"}}}},
       {"abuffer", {{{"precision", "double"}}}},

@@ -1,0 +1,102 @@
+// The methods beyond the thesis's five, each against a closed form over the A-buffer's fragment
+// lists (method_fixture.h), evaluated independently of the method's code.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "method_fixture.h"
+#include "methods/methods.h"
+#include "oitref/depth.h"
+
+using namespace oitref;
+using namespace oitref::test;
+
+TEST_CASE("screendoor: the Bayer matrices are the published ones and permutations", "[methods][screendoor]") {
+  // Bayer 4×4 as printed in the literature, rows y = 0..3.
+  const uint32_t b4[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) CHECK(methods::bayerIndex(4, x, y) == b4[y][x]);
+  for (int n : {2, 4, 8}) {
+    std::set<uint32_t> values;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) values.insert(methods::bayerIndex(n, x + 3 * n, y + 5 * n));  // periodic
+    CHECK(values.size() == size_t(n * n));
+    CHECK(*values.rbegin() == uint32_t(n * n - 1));
+  }
+}
+
+TEST_CASE("screendoor: each pixel shows the nearest fragment whose α passes its threshold", "[methods][screendoor]") {
+  for (int n : {2, 4, 8}) {
+    const FrameResult sd = render(reference().scene, "screendoor", {{"mask", std::to_string(n)}});
+    forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+      // Depth test LESS in d24: the first fragment (submission order) with the smallest encoded
+      // depth among those that survive the mask.
+      const TransparentFragment* front = nullptr;
+      uint32_t frontDepth = 0;
+      for (const TransparentFragment& fr : f) {
+        // The threshold from the Bayer matrix written out for n = 2, 4, 8 by the recursion's
+        // closed form: B(x, y) = Σ_k 4^(levels−1−k)·q(bit k of x, bit k of y), q = (0 2; 3 1).
+        uint32_t b = 0;
+        for (int bit = 0, weight = n * n / 4; (1 << bit) < n; ++bit, weight /= 4) {
+          const int bx = (x >> bit) & 1, by = (y >> bit) & 1;
+          b += uint32_t(weight) * (by ? (bx ? 1u : 3u) : (bx ? 2u : 0u));
+        }
+        if (!(double(fr.color.a) > (b + 0.5) / (n * n))) continue;
+        const uint32_t d = encodeDepth(fr.windowDepth, DepthFormat::D24);
+        if (!front || d < frontDepth) front = &fr, frontDepth = d;
+      }
+      const glm::dvec3 want = front ? glm::dvec3(glm::vec3(front->color)) : c0;
+      requireClose(sd.finalFloat, x, y, want, 0.0, "screendoor");
+    });
+  }
+}
+
+TEST_CASE("screendoor: a layer of α = k/N² covers k pixels of every tile", "[methods][screendoor]") {
+  Scene s;
+  s.width = 16, s.height = 16;
+  s.background = {0, 0, 0};
+  s.camera.position = {0, 0, 2};
+  s.camera.target = {0, 0, 0};
+  for (int k : {0, 1, 5, 8, 15, 16}) {
+    s.objects = {quad({0, 0, 0}, 10, {1, 1, 1, float(k) / 16.0f})};
+    s.objects[0].transparentOverride = true;
+    const FrameResult sd = render(s, "screendoor");
+    for (int ty = 0; ty < 16; ty += 4)
+      for (int tx = 0; tx < 16; tx += 4) {
+        int covered = 0;
+        for (int y = ty; y < ty + 4; ++y)
+          for (int x = tx; x < tx + 4; ++x) covered += sd.finalFloat.fetch(x, y).r == 1.0f;
+        CHECK(covered == k);
+      }
+  }
+}
+
+TEST_CASE("wboit layout=single (listing 4) is eq. 2.5 with the revealage in accum's alpha", "[methods][wboit]") {
+  for (const char* accum : {"rgba32f", "rgba16f"}) {
+    const double u = std::string(accum) == "rgba16f" ? kU16 : kU32;
+    const FrameResult wb = render(reference().scene, "wboit", {{"layout", "single"}, {"accum", accum}, {"weight", "az3"}});
+    forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+      glm::dvec3 sum(0.0);
+      double weights = 0, reveal = 1, largest = 0;
+      for (const auto& fr : f) {
+        const double w = fr.color.a / std::pow(double(fr.windowDepth), 3);
+        sum += glm::dvec3(glm::vec3(fr.color)) * double(fr.color.a) * w;
+        weights += fr.color.a * w;
+        reveal *= 1.0 - fr.color.a;
+        largest = std::max(largest, weights);
+      }
+      const glm::dvec3 want = f.empty() ? c0 : sum / std::clamp(weights, 1e-4, 5e4) * (1 - reveal) + c0 * reveal;
+      // The sums and the product round in the accumulation format; the ratio of two sums with
+      // relative error (n + 4)·u each is within 2·(n + 4)·u of the true ratio (colours ≤ 1).
+      const double bound = 8 * (f.size() + 4) * u * (1 + largest / std::max(weights, 1e-4));
+      requireClose(wb.finalFloat, x, y, want, bound, accum);
+    });
+    // The same bits as listing 3 in fp32, where both keep the revealage in fp32.
+    if (std::string(accum) == "rgba32f") {
+      const FrameResult mrt = render(reference().scene, "wboit", {{"accum", accum}, {"weight", "az3"}});
+      CHECK(mrt.finalFloat.sameBits(wb.finalFloat));
+    }
+  }
+}
