@@ -100,3 +100,66 @@ TEST_CASE("wboit layout=single (listing 4) is eq. 2.5 with the revealage in accu
     }
   }
 }
+
+namespace {
+
+// Bavoil–Myers over the given layers onto c0, in double: (avg·(1 − T) + c0·T).
+glm::dvec3 weightedAverageOnto(const std::vector<TransparentFragment>& layers, const glm::dvec3& c0) {
+  if (layers.empty()) return c0;
+  glm::dvec3 sum(0.0);
+  double alpha = 0;
+  for (const auto& f : layers) sum += glm::dvec3(glm::vec3(f.color)) * double(f.color.a), alpha += f.color.a;
+  const double n = double(layers.size()), t = std::pow(std::max(0.0, 1.0 - alpha / n), n);
+  return sum / std::max(alpha, 1e-4) * (1.0 - t) + c0 * t;
+}
+
+}  // namespace
+
+TEST_CASE("hybrid: the k nearest fragments exactly over the others' weighted average", "[methods][hybrid]") {
+  struct Case {
+    int k;
+    const char *core, *tail;
+  };
+  for (const Case& c : {Case{2, "rgba32f", "rgba32f"}, Case{4, "rgba32f", "rgba16f"}, Case{8, "rgba32f", "rgba16f"},
+                        Case{4, "rgba8", "rgba32f"}}) {
+    const FrameResult hy = render(reference().scene, "hybrid", {{"k", std::to_string(c.k)}, {"core", c.core}, {"tail", c.tail}});
+    const double u = std::string(c.tail) == "rgba16f" ? kU16 : kU32;
+    forEachPixel([&](int x, int y, std::vector<TransparentFragment> f, glm::dvec3 c0) {
+      // Front to back by window depth; equal depths keep submission order (earlier in front).
+      std::stable_sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.windowDepth < b.windowDepth; });
+      const size_t core = std::min(f.size(), size_t(c.k));
+      const std::vector<TransparentFragment> tail(f.begin() + std::ptrdiff_t(core), f.end());
+      glm::dvec3 want = weightedAverageOnto(tail, c0);
+      for (size_t i = core; i-- > 0;) want = glm::dvec3(glm::vec3(f[i].color)) * double(f[i].color.a) + want * (1.0 - f[i].color.a);
+      double alpha = 0;
+      for (const auto& fr : tail) alpha += fr.color.a;
+      const double n = double(tail.size());
+      // The tail as the weighted-average test bounds it; core colours in RGBA8 are off by at
+      // most half a step each, which the OVER chain passes on at most once in total (weights
+      // α_i·Π(1 − α_j) sum to ≤ 1); evicted fragments reach the tail in that format too.
+      // The average's error is scaled by the tail's opacity 1 − T ≤ Σα.
+      double bound = 4 * (n + 2) * u * (1 + alpha) + 4 * n * (n + 2) * u + 16 * kU32 * (core + 2);
+      if (std::string(c.core) == "rgba8") bound += 2.0 / 255;
+      requireClose(hy.finalFloat, x, y, want, bound, c.core);
+    });
+  }
+}
+
+TEST_CASE("hybrid: with k at least the depth complexity it is the exact composite", "[methods][hybrid]") {
+  const FrameResult hy = render(reference().scene, "hybrid", {{"k", "16"}});
+  size_t deepest = 0;
+  forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+    deepest = std::max(deepest, f.size());
+    requireClose(hy.finalFloat, x, y, overBackToFront(f, c0), 4 * (f.size() + 2) * kU32 * 2, "hybrid k=16");
+  });
+  REQUIRE(deepest <= 16);
+  // And the split matters: with k = 2, pixels deeper than 2 are off the exact composite.
+  const FrameResult k2 = render(reference().scene, "hybrid", {{"k", "2"}});
+  int off = 0;
+  forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+    const glm::dvec3 exact = overBackToFront(f, c0);
+    const glm::vec4 got = k2.finalFloat.fetch(x, y);
+    if (f.size() > 2 && std::abs(got.r - exact.r) + std::abs(got.g - exact.g) + std::abs(got.b - exact.b) > 1e-3) ++off;
+  });
+  CHECK(off > 20);
+}

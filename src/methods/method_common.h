@@ -8,6 +8,7 @@
 #include <map>
 #include <string>
 
+#include "methods/power.h"
 #include "oitref/method.h"
 
 namespace oitref::methods {
@@ -86,6 +87,13 @@ class PassRunner {
 // average accum.rgb / clamp(accum.a, 1e-4, 5e4) and, as alpha, the revealage.
 inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
   return {glm::vec3(accum) / std::clamp(accum.a, 1e-4f, 5e4f), reveal};
+}
+
+// Bavoil–Myers's weighted average of n layers accumulated as (Σ c·α, Σ α) (n > 0): the average
+// colour Σcα / max(Σα, 1e-4) and, as alpha, the transmittance T = max(0, 1 − Σα/n)^n.
+inline glm::vec4 weightedAverageResolve(const glm::vec4& accum, float count) {
+  const float meanAlpha = accum.a / count;
+  return {glm::vec3(accum) / std::max(accum.a, 1e-4f), powInt(std::max(0.0f, 1.0f - meanAlpha), unsigned(count))};
 }
 
 // The blend states of the methods, named once so the emulated passes and their GL mirrors

@@ -25,6 +25,7 @@ const std::vector<Entry>& registry() {
       {methods::wboitInfo, methods::makeWboit},   {methods::mboitInfo, methods::makeMboit},
       {methods::peelInfo, methods::makePeel},
       {methods::screendoorInfo, methods::makeScreendoor},
+      {methods::hybridInfo, methods::makeHybrid},
       {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},
   };
   return entries;

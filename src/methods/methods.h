@@ -27,6 +27,8 @@ std::unique_ptr<Method> makeMboit(const MethodOptions& options);
 // positive definite, or the roots or the result are not finite) and the fragment's own layer
 // (`overestimation`) was returned instead.
 float mboitAbsorbance(const float b[4], float z, float bias, float overestimation, bool* fellBack = nullptr);
+const MethodInfo& hybridInfo();
+std::unique_ptr<Method> makeHybrid(const MethodOptions& options);
 const MethodInfo& screendoorInfo();
 std::unique_ptr<Method> makeScreendoor(const MethodOptions& options);
 // The N×N Bayer matrix entry at (x mod N, y mod N), N a power of two (screendoor.cpp).

@@ -52,10 +52,8 @@ class Wavg final : public Method {
       const float n = count.fetch(in.x, in.y).r;
       if (n == 0.0f) return false;  // no transparent layer: the background stays
       const glm::vec4 a = accum.fetch(in.x, in.y);
-      const float meanAlpha = a.a / n;
-      const unsigned layers = unsigned(n);
-      const float tr = thesis ? powInt(meanAlpha, layers) : powInt(std::max(0.0f, 1.0f - meanAlpha), layers);
-      s = glm::vec4(glm::vec3(a) / std::max(a.a, 1e-4f), tr);
+      s = weightedAverageResolve(a, n);
+      if (thesis) s.a = powInt(a.a / n, unsigned(n));  // eq. 2.2 as printed: (Σα/n)^n
       return true;
     });
     t.finish(result, "opaque");
