@@ -163,3 +163,45 @@ TEST_CASE("hybrid: with k at least the depth complexity it is the exact composit
   });
   CHECK(off > 20);
 }
+
+TEST_CASE("dualpeel: with enough passes it is the exact composite wherever depths do not tie", "[methods][dualpeel]") {
+  const FrameResult dp = render(reference().scene, "dualpeel", {{"color", "rgba32f"}});
+  int tied = 0, checked = 0;
+  forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+    std::set<float> depths;
+    for (const auto& fr : f) depths.insert(fr.windowDepth);
+    if (depths.size() != f.size()) return void(++tied);  // collisions: the next test
+    ++checked;
+    // Front layers accumulate under in fp32, back layers OVER in fp32: a few roundings per layer.
+    requireClose(dp.finalFloat, x, y, overBackToFront(f, c0), 8 * (f.size() + 2) * kU32 * 2, "dualpeel");
+  });
+  CHECK(checked > 3000);
+  CHECK(tied < checked / 100);
+  // ⌈N/2⌉ peeling passes and the one that finds nothing left; the deepest pixel decides N.
+  size_t deepest = 0;
+  forEachPixel([&](int, int, const std::vector<TransparentFragment>& f, glm::dvec3) { deepest = std::max(deepest, f.size()); });
+  std::string passes;
+  for (const auto& [k, v] : dp.facts)
+    if (k == "peeling passes") passes = v;
+  CHECK(passes == std::to_string((deepest + 1) / 2 + 1));
+}
+
+TEST_CASE("dualpeel: two layers at exactly the same depth collide under MAX", "[methods][dualpeel]") {
+  // Red and blue, α = 0.5, coplanar, over a black background. Both are the nearest layer of the
+  // first pass, so both write front = (c·α, α) and MAX keeps the component-wise maximum:
+  // (0.5, 0, 0.5) with coverage 0.5 — a colour neither order gives. The exact composite (either
+  // ground truth: the earlier submission in front) is red over blue: (0.5, 0, 0.25).
+  Scene s;
+  s.width = 8, s.height = 8;
+  s.background = {0, 0, 0};
+  s.camera.position = {0, 0, 2};
+  s.camera.target = {0, 0, 0};
+  s.objects = {quad({0, 0, 0}, 10, {1, 0, 0, 0.5f}), quad({0, 0, 0}, 10, {0, 0, 1, 0.5f})};
+  const glm::vec4 dual = render(s, "dualpeel", {{"color", "rgba32f"}}).finalFloat.fetch(4, 4);
+  CHECK(dual.r == 0.5f);
+  CHECK(dual.g == 0.0f);
+  CHECK(dual.b == 0.5f);
+  const glm::vec4 exact = render(s, "abuffer").finalFloat.fetch(4, 4);
+  CHECK(exact.r == 0.5f);
+  CHECK(exact.b == 0.25f);
+}

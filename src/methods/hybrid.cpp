@@ -13,15 +13,14 @@
 // "tail_count" (ONE, ONE). A fragment as deep as a core one goes behind it: the earlier
 // submission stays in front, the ground truths' tie rule. Core colours are stored straight in
 // `core` format (a fragment that is evicted later reaches the tail as stored), depths as the
-// fragment's window depth in R32F (cleared to +inf = empty).
-#include <cmath>
-#include <limits>
-
+// fragment's window depth in R32F (cleared to 2, beyond any window depth: empty).
 #include "methods/method_common.h"
 #include "methods/methods.h"
 
 namespace oitref::methods {
 namespace {
+
+constexpr float kEmpty = 2.0f;  // a core depth slot's clear value: behind every window depth
 
 class Hybrid final : public Method {
  public:
@@ -47,7 +46,7 @@ class Hybrid final : public Method {
     for (int i = 0; i < k; ++i) {
       depth[size_t(i)] = &t.color("core_depth_" + std::to_string(i));
       color[size_t(i)] = &t.color("core_color_" + std::to_string(i));
-      depth[size_t(i)]->clear(glm::vec4(std::numeric_limits<float>::infinity()), context.profile);
+      depth[size_t(i)]->clear(glm::vec4(kEmpty), context.profile);
       color[size_t(i)]->clear(glm::vec4(0.0f), context.profile);
     }
     Image& tail = t.color("tail");
@@ -65,7 +64,7 @@ class Hybrid final : public Method {
                           while (place < k && depth[size_t(place)]->fetch(in.x, in.y).r <= in.depth) ++place;
                           glm::vec4 leaving = c;  // behind the whole core: the fragment itself
                           if (place < k) {
-                            const bool full = std::isfinite(depth[size_t(k - 1)]->fetch(in.x, in.y).r);
+                            const bool full = depth[size_t(k - 1)]->fetch(in.x, in.y).r != kEmpty;
                             leaving = full ? color[size_t(k - 1)]->fetch(in.x, in.y) : glm::vec4(0.0f);
                             for (int i = k - 1; i > place; --i) {
                               depth[size_t(i)]->store(in.x, in.y, depth[size_t(i - 1)]->fetch(in.x, in.y), profile);
@@ -96,7 +95,7 @@ class Hybrid final : public Method {
         const glm::vec3 c0(target == 0 ? opaque.fetch(in.x, in.y) : analysis.fetch(in.x, in.y));
         glm::vec3 result = glm::vec3(tailResolve) * (1.0f - tailResolve.a) + c0 * tailResolve.a;
         for (int i = k - 1; i >= 0; --i) {
-          if (!std::isfinite(depth[size_t(i)]->fetch(in.x, in.y).r)) continue;
+          if (depth[size_t(i)]->fetch(in.x, in.y).r == kEmpty) continue;
           const glm::vec4 s = color[size_t(i)]->fetch(in.x, in.y);
           result = glm::vec3(s) * s.a + result * (1.0f - s.a);
         }

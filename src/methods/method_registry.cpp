@@ -23,7 +23,7 @@ const std::vector<Entry>& registry() {
       {methods::sortedInfo, methods::makeSorted},
       {methods::wsumInfo, methods::makeWsum},     {methods::wavgInfo, methods::makeWavg},
       {methods::wboitInfo, methods::makeWboit},   {methods::mboitInfo, methods::makeMboit},
-      {methods::peelInfo, methods::makePeel},
+      {methods::peelInfo, methods::makePeel},     {methods::dualpeelInfo, methods::makeDualpeel},
       {methods::screendoorInfo, methods::makeScreendoor},
       {methods::hybridInfo, methods::makeHybrid},
       {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},

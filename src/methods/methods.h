@@ -27,6 +27,8 @@ std::unique_ptr<Method> makeMboit(const MethodOptions& options);
 // positive definite, or the roots or the result are not finite) and the fragment's own layer
 // (`overestimation`) was returned instead.
 float mboitAbsorbance(const float b[4], float z, float bias, float overestimation, bool* fellBack = nullptr);
+const MethodInfo& dualpeelInfo();
+std::unique_ptr<Method> makeDualpeel(const MethodOptions& options);
 const MethodInfo& hybridInfo();
 std::unique_ptr<Method> makeHybrid(const MethodOptions& options);
 const MethodInfo& screendoorInfo();

@@ -69,6 +69,9 @@ std::vector<StressConfig> stressConfigs() {
       {"mboit", {{"accum", "rgba16f"}}},
       {"mboit", {{"warp", "log"}}},
       {"peel", {}},
+      {"dualpeel", {}},
+      {"hybrid", {}},
+      {"screendoor", {}},
       {"abuffer", {}},
   };
 }
