@@ -205,3 +205,70 @@ TEST_CASE("dualpeel: two layers at exactly the same depth collide under MAX", "[
   CHECK(exact.r == 0.5f);
   CHECK(exact.b == 0.25f);
 }
+
+TEST_CASE("stochastic: masks have round(α·S) bits, differ between fragments, repeat exactly", "[methods][stochastic]") {
+  for (int s : {8, 16, 32})
+    for (float a : {0.0f, 0.03f, 0.45f, 0.5f, 0.97f, 1.0f}) {
+      const int want = int(std::floor(double(a) * s + 0.5));
+      std::set<uint32_t> distinct;
+      for (int x = 0; x < 20; ++x) {
+        const uint32_t m = methods::stochasticMask(7, x, 3, 2, 5, a, s);
+        CHECK(__builtin_popcount(m) == want);
+        CHECK((s == 32 || m >> s == 0));
+        CHECK(m == methods::stochasticMask(7, x, 3, 2, 5, a, s));
+        distinct.insert(m);
+      }
+      if (want > 0 && want < s) CHECK(distinct.size() > 10);
+    }
+}
+
+TEST_CASE("stochastic: red over green over blue, the paper's example", "[methods][stochastic]") {
+  // Red in front, green behind, α = 0.45 each, blue background. Red passes LEQUAL in every
+  // sample (nothing is in front of it): v = 1. Green fails exactly where red is stored, in the
+  // k = round(0.45·S) samples of red's mask: v = 1 − k/S, whatever the random bits. With the
+  // exact revealage T = 0.55² = 0.3025 the corrected colour is
+  //   (0.45, 0.45·(1 − k/S), 0) / (0.45·(2 − k/S)) · (1 − T) + (0, 0, 1)·T,
+  // which tends to the paper's (0.45, 0.2475, 0.3025) as k/S → α.
+  Scene s;
+  s.width = 8, s.height = 8;
+  s.background = {0, 0, 1};
+  s.camera.position = {0, 0, 2};
+  s.camera.target = {0, 0, 0};
+  s.objects = {quad({0, 0, -1}, 10, {0, 1, 0, 0.45f}), quad({0, 0, 0}, 10, {1, 0, 0, 0.45f})};
+  for (int samples : {8, 16, 32}) {
+    const double k = std::floor(0.45 * samples + 0.5), vGreen = 1 - k / samples, t = 0.55 * 0.55;
+    const double a = 0.45 * (1 + vGreen);
+    const glm::dvec3 want(0.45 / a * (1 - t), 0.45 * vGreen / a * (1 - t), t);
+    for (const char* seed : {"1", "2"}) {
+      const FrameResult st = render(s, "stochastic", {{"samples", std::to_string(samples)}, {"seed", seed}, {"accum", "rgba32f"}});
+      for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) requireClose(st.finalFloat, x, y, want, 1e-6, "stochastic");
+    }
+  }
+  // S = 32: within 0.004 of the paper's expectation (k/S = 0.4375 for α = 0.45).
+  const glm::vec4 s32 = render(s, "stochastic", {{"samples", "32"}}).finalFloat.fetch(4, 4);
+  CHECK(s32.r == Approx(0.45).margin(4e-3));
+  CHECK(s32.g == Approx(0.2475).margin(4e-3));
+  CHECK(s32.b == Approx(0.3025).margin(1e-3));
+}
+
+TEST_CASE("stochastic: the error shrinks toward the A-buffer as S grows", "[methods][stochastic]") {
+  auto meanRmse = [](int samples) {
+    double sum = 0;
+    for (int seed = 1; seed <= 3; ++seed) {
+      const FrameResult st = render(reference().scene, "stochastic",
+                                    {{"samples", std::to_string(samples)}, {"seed", std::to_string(seed)}});
+      double squares = 0;
+      forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+        const glm::dvec3 d = glm::dvec3(glm::vec3(st.finalFloat.fetch(x, y))) - overBackToFront(f, c0);
+        squares += glm::dot(d, d);
+      });
+      sum += std::sqrt(squares / (3.0 * reference().scene.width * reference().scene.height));
+    }
+    return sum / 3;
+  };
+  const double e8 = meanRmse(8), e16 = meanRmse(16), e32 = meanRmse(32);
+  INFO("mean RMSE over 3 seeds: S=8 " << e8 << ", S=16 " << e16 << ", S=32 " << e32);
+  CHECK(e16 < e8);
+  CHECK(e32 < e16);
+}

@@ -26,6 +26,7 @@ const std::vector<Entry>& registry() {
       {methods::peelInfo, methods::makePeel},     {methods::dualpeelInfo, methods::makeDualpeel},
       {methods::screendoorInfo, methods::makeScreendoor},
       {methods::hybridInfo, methods::makeHybrid},
+      {methods::stochasticInfo, methods::makeStochastic},
       {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},
   };
   return entries;

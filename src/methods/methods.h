@@ -27,6 +27,10 @@ std::unique_ptr<Method> makeMboit(const MethodOptions& options);
 // positive definite, or the roots or the result are not finite) and the fragment's own layer
 // (`overestimation`) was returned instead.
 float mboitAbsorbance(const float b[4], float z, float bias, float overestimation, bool* fellBack = nullptr);
+const MethodInfo& stochasticInfo();
+std::unique_ptr<Method> makeStochastic(const MethodOptions& options);
+// The coverage mask of one fragment: round(α·samples) of the low `samples` bits (stochastic.cpp).
+uint32_t stochasticMask(uint32_t seed, int x, int y, uint32_t object, uint32_t primitive, float alpha, int samples);
 const MethodInfo& dualpeelInfo();
 std::unique_ptr<Method> makeDualpeel(const MethodOptions& options);
 const MethodInfo& hybridInfo();

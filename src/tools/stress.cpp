@@ -72,6 +72,7 @@ std::vector<StressConfig> stressConfigs() {
       {"dualpeel", {}},
       {"hybrid", {}},
       {"screendoor", {}},
+      {"stochastic", {}},
       {"abuffer", {}},
   };
 }

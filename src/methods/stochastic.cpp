@@ -1,0 +1,146 @@
+// Stochastic transparency (Enderton, Sintorn, Shirley, Luebke, "Stochastic Transparency",
+// I3D 2010), with S samples per pixel:
+//   1. stochastic depth: every transparent fragment covers a random subset of round(α·S) of the
+//      pixel's S samples, and is depth-tested (LESS, with writes) like an opaque surface in
+//      each covered sample;
+//   2. accumulation: every transparent fragment adds (c·α·v, α·v) (ONE, ONE), v the share of
+//      the S samples whose stochastic depth is not in front of it (LEQUAL) — its estimated
+//      visibility Π(1 − α_j) over the layers in front; the revealage Π(1 − α) is accumulated
+//      exactly beside it (ZERO, ONE_MINUS_SRC_COLOR);
+//   3. alpha correction: C = accum.rgb / accum.a · (1 − Π(1 − α)) + C0 · Π(1 − α), the
+//      composite of the weighted methods — exact coverage, normalised colour.
+// oitref has no multisampling, so the S samples are S depth planes ("sample_depth_s", d24, a GPU's
+// MSAA depth buffer), all at the pixel centre: they carry the stochastic masks only, not
+// geometric antialiasing. Pass 1 runs once per sample plane with the pipeline's own depth test,
+// each run keeping the fragments whose mask has that sample; pass 2 reads the S planes in the
+// shader, the visibility that an MSAA resolve would average. The masks are a function of
+// (seed, pixel, object, primitive): the same bits on every run and thread count.
+#include <algorithm>
+#include <cmath>
+
+#include "methods/method_common.h"
+#include "methods/methods.h"
+
+namespace oitref::methods {
+
+namespace {
+
+// SplitMix64 (Steele, Lea, Flood 2014): a well-mixed 64-bit hash of a 64-bit state.
+uint64_t splitMix(uint64_t& state) {
+  uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+}  // namespace
+
+uint32_t stochasticMask(uint32_t seed, int x, int y, uint32_t object, uint32_t primitive, float alpha, int samples) {
+  const int bits = std::clamp(int(std::floor(double(alpha) * samples + 0.5)), 0, samples);
+  uint64_t state = (uint64_t(seed) << 32) ^ (uint64_t(uint32_t(x)) << 16) ^ uint64_t(uint32_t(y)) ^
+                   (uint64_t(object) << 40) ^ (uint64_t(primitive) * 0x2545f4914f6cdd1dull);
+  splitMix(state);
+  // The first `bits` entries of a Fisher–Yates shuffle of the sample indices.
+  int order[32];
+  for (int i = 0; i < samples; ++i) order[i] = i;
+  uint32_t mask = 0;
+  for (int i = 0; i < bits; ++i) {
+    const int j = i + int(splitMix(state) % uint64_t(samples - i));
+    std::swap(order[i], order[j]);
+    mask |= 1u << order[i];
+  }
+  return mask;
+}
+
+namespace {
+
+class Stochastic final : public Method {
+ public:
+  explicit Stochastic(const MethodOptions& o)
+      : samples_(int(o.number("samples"))), seed_(uint32_t(o.number("seed"))), accumFormat_(o.text("accum")) {}
+  const MethodInfo& info() const override { return stochasticInfo(); }
+  std::vector<AttachmentDecl> attachments() const override {
+    std::vector<AttachmentDecl> a = opaqueAttachments();
+    for (int s = 0; s < samples_; ++s)
+      a.push_back(depthAttachment("sample_depth_" + std::to_string(s), "stochastic depth of sample " + std::to_string(s)));
+    a.push_back(colorAttachment("accum", accumFormat_, "Σ(c·α·v, α·v), v the share of samples not in front, ONE, ONE"));
+    a.push_back(colorAttachment("reveal", "r" + accumFormat_.substr(4), "Π(1 − α), ZERO, ONE_MINUS_SRC_COLOR"));
+    return a;
+  }
+  FrameResult render(const FrameContext& context) override {
+    FrameResult result;
+    FrameTargets t(attachments(), context.width, context.height);
+    PassRunner run(context, result);
+    run.opaquePass(t);
+    const int samples = samples_;
+    const uint32_t seed = seed_;
+    std::vector<DepthBuffer*> sampleDepth;
+    PipelineState solid;
+    solid.profile = context.profile;
+    solid.depth = {true, CompareFunc::Less, true, false};
+    for (int s = 0; s < samples; ++s) {
+      DepthBuffer& d = t.depth("sample_depth_" + std::to_string(s));
+      d = t.depth("depth");  // the opaque surfaces are in every sample
+      sampleDepth.push_back(&d);
+      Framebuffer fb;
+      fb.depth = &d;
+      run.transparentPass("stochastic depth " + std::to_string(s), fb, solid,
+                          [&, s](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+                            const uint32_t mask = stochasticMask(seed, in.x, in.y, uint32_t(run.currentObject()),
+                                                                 in.primitiveId, c.a, samples);
+                            if (!(mask >> s & 1u)) out.discard();
+                          },
+                          /*mayDiscard=*/true);
+    }
+    Image& accum = t.color("accum");
+    Image& reveal = t.color("reveal");
+    accum.clear(glm::vec4(0.0f), context.profile);
+    reveal.clear(glm::vec4(1.0f), context.profile);
+    Framebuffer fb;
+    fb.color[0] = &accum;
+    fb.color[1] = &reveal;
+    fb.depth = &t.depth("depth");
+    PipelineState st = transparentState(context.profile, additiveBlend());
+    st.blend[1] = revealageBlend();
+    const DepthFormat format = t.depth("depth").format();
+    run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+      const uint32_t z = encodeDepth(in.depth, format);
+      int visible = 0;
+      for (const DepthBuffer* d : sampleDepth) visible += z <= d->load(in.x, in.y);
+      const float v = float(visible) / float(samples);
+      out.write(0, glm::vec4(glm::vec3(c) * c.a * v, c.a * v));
+      out.write(1, glm::vec4(c.a));
+    });
+    run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {
+      s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);
+      return true;
+    });
+    t.finish(result, "opaque");
+    return result;
+  }
+
+ private:
+  int samples_;
+  uint32_t seed_;
+  std::string accumFormat_;
+};
+
+}  // namespace
+
+const MethodInfo& stochasticInfo() {
+  static const MethodInfo info{
+      "stochastic",
+      "stochastic transparency (Enderton et al. 2010): random sample masks, depth per sample, alpha correction",
+      {{"samples", "8", "samples per pixel S (each fragment covers round(α·S) of them)", {"8", "16", "32"}},
+       {"seed", "1", "seed of the coverage masks", {}},
+       {"accum", "rgba16f", "accumulation format; the revealage uses the same encoding in one channel", {"rgba16f", "rgba32f"}}}};
+  return info;
+}
+std::unique_ptr<Method> makeStochastic(const MethodOptions& o) {
+  const double seed = o.number("seed");
+  if (seed < 0 || seed > 4294967295.0 || seed != std::floor(seed))
+    throw std::invalid_argument("method 'stochastic' option 'seed': must be an integer in 0..4294967295");
+  return std::make_unique<Stochastic>(o);
+}
+
+}  // namespace oitref::methods
