@@ -272,3 +272,61 @@ TEST_CASE("stochastic: the error shrinks toward the A-buffer as S grows", "[meth
   CHECK(e16 < e8);
   CHECK(e32 < e16);
 }
+
+TEST_CASE("kbuffer: the k nearest fragments composited exactly, the rest dropped", "[methods][kbuffer]") {
+  for (int k : {1, 2, 4}) {
+    const FrameResult kb = render(reference().scene, "kbuffer", {{"k", std::to_string(k)}});
+    forEachPixel([&](int x, int y, std::vector<TransparentFragment> f, glm::dvec3 c0) {
+      std::stable_sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.windowDepth < b.windowDepth; });
+      if (f.size() > size_t(k)) f.resize(size_t(k));
+      glm::dvec3 want = c0;
+      for (size_t i = f.size(); i-- > 0;) want = glm::dvec3(glm::vec3(f[i].color)) * double(f[i].color.a) + want * (1.0 - f[i].color.a);
+      requireClose(kb.finalFloat, x, y, want, 8 * (f.size() + 2) * kU32, "kbuffer");
+    });
+  }
+}
+
+TEST_CASE("mlab: exact with enough nodes; merges keep the total transmittance exactly", "[methods][mlab]") {
+  const FrameResult full = render(reference().scene, "mlab", {{"k", "16"}});
+  forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+    requireClose(full.finalFloat, x, y, overBackToFront(f, c0), 8 * (f.size() + 2) * kU32, "mlab k=16");
+  });
+  // The composite is Σ(colour terms) + C0·Π T; merging multiplies transmittances, so Π T is
+  // Π(1 − α) whatever merged. Two backgrounds, same layers: the difference of the results is
+  // (C0a − C0b)·Π(1 − α), independent of the merge order.
+  Scene a = reference().scene, b = reference().scene;
+  b.background = {0.9f, 0.1f, 0.6f};
+  Scene aOnly = a, bOnly = b;
+  std::erase_if(aOnly.objects, [](const SceneObject& o) { return o.isTransparent(); });
+  std::erase_if(bOnly.objects, [](const SceneObject& o) { return o.isTransparent(); });
+  const Image c0a = render(aOnly, "over").finalFloat, c0b = render(bOnly, "over").finalFloat;
+  for (const char* k : {"1", "2"}) {
+    const Image ra = render(a, "mlab", {{"k", k}}).finalFloat, rb = render(b, "mlab", {{"k", k}}).finalFloat;
+    int merged = 0;
+    forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3) {
+      double t = 1;
+      for (const auto& fr : f) t *= 1.0 - fr.color.a;
+      merged += f.size() > size_t(std::stoi(k));
+      const glm::dvec3 diff = glm::dvec3(glm::vec3(ra.fetch(x, y))) - glm::dvec3(glm::vec3(rb.fetch(x, y)));
+      const glm::dvec3 want = (glm::dvec3(glm::vec3(c0a.fetch(x, y))) - glm::dvec3(glm::vec3(c0b.fetch(x, y)))) * t;
+      for (int c = 0; c < 3; ++c)
+        if (!(std::abs(diff[c] - want[c]) <= 8 * (f.size() + 2) * kU32 * 2))
+          FAIL("mlab k=" << k << " pixel " << x << "," << y << ": background term " << diff[c] << ", Π(1 − α) says " << want[c]);
+    });
+    CHECK(merged > 100);
+  }
+  // Merging two depth-adjacent nodes is OVER: two layers with k = 1 are exact whatever the order.
+  Scene two;
+  two.width = 4, two.height = 4;
+  two.background = {0, 0, 1};
+  two.camera.position = {0, 0, 2};
+  two.camera.target = {0, 0, 0};
+  for (bool frontFirst : {true, false}) {
+    two.objects = {quad({0, 0, 0}, 10, {1, 0, 0, 0.3f}), quad({0, 0, -1}, 10, {0, 1, 0, 0.6f})};
+    if (!frontFirst) std::swap(two.objects[0], two.objects[1]);
+    const glm::vec4 got = render(two, "mlab", {{"k", "1"}}).finalFloat.fetch(2, 2);
+    CHECK(got.r == Approx(0.3).margin(1e-6));
+    CHECK(got.g == Approx(0.7 * 0.6).margin(1e-6));
+    CHECK(got.b == Approx(0.7 * 0.4).margin(1e-6));
+  }
+}

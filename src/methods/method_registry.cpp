@@ -27,6 +27,7 @@ const std::vector<Entry>& registry() {
       {methods::screendoorInfo, methods::makeScreendoor},
       {methods::hybridInfo, methods::makeHybrid},
       {methods::stochasticInfo, methods::makeStochastic},
+      {methods::mlabInfo, methods::makeMlab},     {methods::kbufferInfo, methods::makeKbuffer},
       {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},
   };
   return entries;

@@ -27,6 +27,10 @@ std::unique_ptr<Method> makeMboit(const MethodOptions& options);
 // positive definite, or the roots or the result are not finite) and the fragment's own layer
 // (`overestimation`) was returned instead.
 float mboitAbsorbance(const float b[4], float z, float bias, float overestimation, bool* fellBack = nullptr);
+const MethodInfo& mlabInfo();
+std::unique_ptr<Method> makeMlab(const MethodOptions& options);
+const MethodInfo& kbufferInfo();
+std::unique_ptr<Method> makeKbuffer(const MethodOptions& options);
 const MethodInfo& stochasticInfo();
 std::unique_ptr<Method> makeStochastic(const MethodOptions& options);
 // The coverage mask of one fragment: round(α·samples) of the low `samples` bits (stochastic.cpp).

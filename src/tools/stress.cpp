@@ -73,6 +73,9 @@ std::vector<StressConfig> stressConfigs() {
       {"hybrid", {}},
       {"screendoor", {}},
       {"stochastic", {}},
+      {"mlab", {}},
+      {"mlab", {{"node", "rgba8"}}},
+      {"kbuffer", {}},
       {"abuffer", {}},
   };
 }

@@ -1,0 +1,132 @@
+// Multi-layer alpha blending (Salvi & Vaidyanathan, "Multi-Layer Alpha Blending", I3D 2014) and
+// the k-buffer it generalises. Each pixel keeps k nodes sorted front to back, a node being a
+// premultiplied colour, a transmittance and a depth; a fragment becomes the node
+// (c·α, 1 − α, z) and is inserted at its place (behind nodes of equal depth: the earlier
+// submission stays in front). When k + 1 nodes result,
+//   mlab:     the two farthest merge into one, at the nearer's depth:
+//               rgb = near.rgb + far.rgb · near.T,  T = near.T · far.T
+//             (exact OVER when nothing later falls between them; the total transmittance
+//             Π(1 − α) is kept exactly in any case);
+//   kbuffer:  the farthest is dropped, so the k nearest fragments remain.
+// The final pass composites the nodes front to back onto the background:
+//   C = Σ_i rgb_i · Π_{j<i} T_j + C0 · Π_i T_i.
+// Like hybrid.cpp, one geometry pass reads and writes the pixel's nodes in raster order (ROVs,
+// pixel sync); node colours are stored in `node` format, depths in R32F cleared to 2 (empty).
+#include "methods/method_common.h"
+#include "methods/methods.h"
+
+namespace oitref::methods {
+namespace {
+
+constexpr float kEmpty = 2.0f;  // a node depth's clear value: behind every window depth
+
+class LayeredNodes final : public Method {
+ public:
+  LayeredNodes(const MethodOptions& o, bool merge)
+      : k_(int(o.number("k"))), nodeFormat_(o.text("node")), merge_(merge) {}
+  const MethodInfo& info() const override { return merge_ ? mlabInfo() : kbufferInfo(); }
+  std::vector<AttachmentDecl> attachments() const override {
+    std::vector<AttachmentDecl> a = opaqueAttachments();
+    for (int i = 0; i < k_; ++i)
+      a.push_back(colorAttachment("node_depth_" + std::to_string(i), "r32f", "depth of node " + std::to_string(i)));
+    for (int i = 0; i < k_; ++i)
+      a.push_back(colorAttachment("node_color_" + std::to_string(i), nodeFormat_,
+                                  "premultiplied colour and transmittance of node " + std::to_string(i)));
+    return a;
+  }
+  FrameResult render(const FrameContext& context) override {
+    FrameResult result;
+    FrameTargets t(attachments(), context.width, context.height);
+    PassRunner run(context, result);
+    run.opaquePass(t);
+    const int k = k_;
+    const bool merge = merge_;
+    const Profile& profile = context.profile;
+    std::vector<Image*> depth, color;
+    for (int i = 0; i < k; ++i) {
+      depth.push_back(&t.color("node_depth_" + std::to_string(i)));
+      color.push_back(&t.color("node_color_" + std::to_string(i)));
+      depth.back()->clear(glm::vec4(kEmpty), profile);
+      color.back()->clear({0, 0, 0, 1}, profile);
+    }
+    Framebuffer none;
+    none.depth = &t.depth("depth");
+    run.transparentPass(merge ? "insert and merge" : "insert", none, transparentState(profile, BlendState{}),
+                        [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput&) {
+                          const glm::vec4 node(glm::vec3(c) * c.a, 1.0f - c.a);
+                          int place = 0;
+                          while (place < k && depth[size_t(place)]->fetch(in.x, in.y).r <= in.depth) ++place;
+                          const bool full = depth[size_t(k - 1)]->fetch(in.x, in.y).r != kEmpty;
+                          if (place == k) {  // behind every node of a full list
+                            if (!merge) return;  // k-buffer: dropped
+                            const glm::vec4 last = color[size_t(k - 1)]->fetch(in.x, in.y);
+                            color[size_t(k - 1)]->store(in.x, in.y, mergeNodes(last, node), profile);
+                            return;
+                          }
+                          // The list's last node falls off the end or, in MLAB, merges into
+                          // the node that will precede it.
+                          const glm::vec4 overflow = color[size_t(k - 1)]->fetch(in.x, in.y);
+                          for (int i = k - 1; i > place; --i) {
+                            depth[size_t(i)]->store(in.x, in.y, depth[size_t(i - 1)]->fetch(in.x, in.y), profile);
+                            color[size_t(i)]->store(in.x, in.y, color[size_t(i - 1)]->fetch(in.x, in.y), profile);
+                          }
+                          depth[size_t(place)]->store(in.x, in.y, glm::vec4(in.depth), profile);
+                          color[size_t(place)]->store(in.x, in.y, node, profile);
+                          if (full && merge) {
+                            const glm::vec4 last = color[size_t(k - 1)]->fetch(in.x, in.y);
+                            color[size_t(k - 1)]->store(in.x, in.y, mergeNodes(last, overflow), profile);
+                          }
+                        });
+    Framebuffer present = t.present(false);
+    PipelineState plain;
+    plain.profile = profile;
+    Image& opaque = t.color("opaque");
+    Image& analysis = t.analysis();
+    run.fullscreenPass("composite", present, plain, [&](const FragmentInput& in, FragmentOutput& o) {
+      glm::vec3 sum(0.0f);
+      float transmittance = 1.0f;
+      for (int i = 0; i < k && depth[size_t(i)]->fetch(in.x, in.y).r != kEmpty; ++i) {
+        const glm::vec4 n = color[size_t(i)]->fetch(in.x, in.y);
+        sum += glm::vec3(n) * transmittance;
+        transmittance *= n.a;
+      }
+      o.write(0, glm::vec4(sum + glm::vec3(opaque.fetch(in.x, in.y)) * transmittance, 1.0f));
+      o.write(1, glm::vec4(sum + glm::vec3(analysis.fetch(in.x, in.y)) * transmittance, 1.0f));
+    });
+    t.finish(result, "opaque");
+    return result;
+  }
+
+ private:
+  // `far` behind `near`, as one node.
+  static glm::vec4 mergeNodes(const glm::vec4& near, const glm::vec4& far) {
+    return {glm::vec3(near) + glm::vec3(far) * near.a, near.a * far.a};
+  }
+
+  int k_;
+  std::string nodeFormat_;
+  bool merge_;
+};
+
+std::vector<MethodOption> nodeOptions() {
+  return {{"k", "4", "nodes per pixel", {"1", "2", "4", "8", "16"}},
+          {"node", "rgba32f", "format of a node's premultiplied colour and transmittance", {"rgba8", "rgba16f", "rgba32f"}}};
+}
+
+}  // namespace
+
+const MethodInfo& mlabInfo() {
+  static const MethodInfo info{"mlab", "multi-layer alpha blending (Salvi & Vaidyanathan 2014): k nodes, the farthest two merge",
+                               nodeOptions()};
+  return info;
+}
+std::unique_ptr<Method> makeMlab(const MethodOptions& o) { return std::make_unique<LayeredNodes>(o, true); }
+
+const MethodInfo& kbufferInfo() {
+  static const MethodInfo info{"kbuffer", "k-buffer: the k nearest fragments composited exactly, the rest dropped",
+                               nodeOptions()};
+  return info;
+}
+std::unique_ptr<Method> makeKbuffer(const MethodOptions& o) { return std::make_unique<LayeredNodes>(o, false); }
+
+}  // namespace oitref::methods
