@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "oitref/method.h"
+#include "tools/process_setup.h"
 #include "tools/suite.h"
 
 using namespace oitref;
@@ -40,6 +41,7 @@ Timing measure(Method& method, const FrameContext& context, int repeat) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  oitref::tools::keepLargeAllocations();
   int repeat = 3, width = 1920, height = 1080;
   std::string scenesDir = "scenes", onlyScene, onlyMethod;
   std::vector<int> threadCounts = {1, int(std::max(1u, std::thread::hardware_concurrency()))};

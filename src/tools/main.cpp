@@ -4,6 +4,7 @@
 #include "oitref/fp16.h"
 #include "oitref/fp_environment.h"
 #include "tools/commands.h"
+#include "tools/process_setup.h"
 
 int main(int argc, char** argv) {
 #if defined(OITREF_HAVE_F16C)
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
   }
 #endif
   const oitref::DefaultFloatingPoint fp;  // every rule assumes IEEE defaults
+  oitref::tools::keepLargeAllocations();
   CLI::App app{"oitref: a bit-exact CPU reference of the GPU pipeline for order-independent transparency"};
   app.require_subcommand(1);
   int exitCode = 0;

@@ -46,8 +46,10 @@ std::string legendHtml(double scale) {
          ")\"></div><span>" + fmt("%.3g", scale) + " and above</span><span class=nonfinite>■ non-finite</span></div>\n";
 }
 
-const char* kMethodColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
-                                "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#393b79", "#637939"};
+// 20 distinguishable colours (the first ten are the common "category10" set).
+const char* kMethodColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
+                                "#7f7f7f", "#bcbd22", "#17becf", "#393b79", "#e7ba52", "#637939", "#843c39",
+                                "#7b4173", "#3182bd", "#31a354", "#fd8d3c", "#000000", "#9c9ede"};
 
 std::string colourOf(const std::string& method, std::map<std::string, int>& index) {
   const auto it = index.emplace(method, int(index.size())).first;
