@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "oitref/depth.h"
@@ -69,6 +70,9 @@ class Renderer {
   // One fragment per pixel of the viewport, at window depth 0, with no attributes, through the
   // same fragment operations (depth test if enabled, blending, write masks).
   DrawStats drawFullscreen(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program);
+  // body(i) for i in [0, n) on this renderer's workers (and no others), each under the default
+  // floating-point environment: for work beside the pipeline, such as the ray cast.
+  void parallelFor(size_t n, const std::function<void(size_t)>& body);
 
  private:
   RendererOptions options_;

@@ -4,7 +4,8 @@
 // the nearest opaque hit ends the list; transparent hits in front of it are sorted by view
 // depth (ties by object, then primitive) and composited back to front with OVER in double.
 // Attributes come from Embree's barycentrics, colours from the same shading function as the
-// rasterizer (oitref/scene_geometry.h). Rays are traced in parallel with oneTBB.
+// rasterizer (oitref/scene_geometry.h). Rays are traced on the renderer's workers, and Embree
+// builds with as many threads, so --threads means what it says here too.
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <tbb/parallel_for.h>
 
 #include "methods/method_common.h"
 #include "methods/methods.h"
@@ -45,8 +45,9 @@ void collectHit(const RTCFilterFunctionNArguments* args) {
 
 class EmbreeScene {
  public:
-  explicit EmbreeScene(const SceneGeometry& geometry) {
-    device_ = rtcNewDevice(nullptr);
+  // `threads`: Embree's own workers for the BVH build, the renderer's count.
+  EmbreeScene(const SceneGeometry& geometry, int threads) {
+    device_ = rtcNewDevice(("threads=" + std::to_string(threads)).c_str());
     if (!device_) throw std::runtime_error("raycast: Embree device creation failed (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
     scene_ = rtcNewScene(device_);
     for (size_t p = 0; p < geometry.parts.size(); ++p) {
@@ -137,7 +138,7 @@ class Raycast final : public Method {
   FrameResult render(const FrameContext& c) override {
     FrameResult result;
     const auto t0 = std::chrono::steady_clock::now();
-    const EmbreeScene scene(c.geometry);
+    const EmbreeScene scene(c.geometry, c.renderer.threads());
     result.passes.push_back({"build BVH", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), {}});
 
     const auto t1 = std::chrono::steady_clock::now();
@@ -146,7 +147,8 @@ class Raycast final : public Method {
     const glm::dmat4 inverse = glm::inverse(glm::dmat4(cam.projection(float(c.width) / float(c.height))) * view);
     const glm::dvec3 forward = glm::normalize(glm::dvec3(cam.target - cam.position));
     Image result8(makeFormat(FormatId::RGBA8), c.width, c.height), resultFloat(makeFormat(FormatId::RGBA32F), c.width, c.height);
-    tbb::parallel_for(0, c.height, [&](int y) {
+    c.renderer.parallelFor(size_t(c.height), [&](size_t row) {
+      const int y = int(row);
       const DefaultFloatingPoint fp;
       std::vector<Hit> hits;
       for (int x = 0; x < c.width; ++x) {

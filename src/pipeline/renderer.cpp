@@ -30,7 +30,7 @@ namespace {
 thread_local int tlsThreads = 1;
 
 template <typename Body>
-void parallelFor(size_t n, Body&& body) {
+void workerParallelFor(size_t n, Body&& body) {
   std::atomic<size_t> next{0};
   auto work = [&] {
     const DefaultFloatingPoint fp;
@@ -45,7 +45,7 @@ void parallelFor(size_t n, Body&& body) {
 // Every task of a draw runs under the default floating-point environment (fp_environment.h):
 // oneTBB copies the arena creator's settings to its workers, whatever they are.
 template <typename Body>
-void parallelFor(size_t n, Body&& body) {
+void workerParallelFor(size_t n, Body&& body) {
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const DefaultFloatingPoint fp;
     body(i);
@@ -127,7 +127,7 @@ void Framebuffer::validate() const {
 }
 
 #if defined(OITREF_STD_THREADS)
-// `threads` std::threads per parallel-for (see parallelFor above).
+// `threads` std::threads per parallel-for (see workerParallelFor above).
 struct Renderer::Arena {
   int threads;
   detail::BinnedTriangles bins;  // reused between draws
@@ -172,6 +172,10 @@ Renderer::~Renderer() = default;
 
 int Renderer::threads() const { return options_.threads; }
 
+void Renderer::parallelFor(size_t n, const std::function<void(size_t)>& body) {
+  arena_->execute([&] { oitref::workerParallelFor(n, body); });
+}
+
 DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geometry& geometry,
                          const FragmentProgram& program) {
   fb.validate();
@@ -184,7 +188,7 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   auto t0 = std::chrono::steady_clock::now();
   detail::BinnedTriangles& bins = arena_->bins;
   arena_->execute([&] {
-    detail::setupAndBin(geometry, context, grid, bins, [](size_t n, auto&& body) { parallelFor(n, body); });
+    detail::setupAndBin(geometry, context, grid, bins, [](size_t n, auto&& body) { workerParallelFor(n, body); });
   });
   stats.trianglesRasterized = bins.counters.rasterized;
   stats.trianglesNonFinite = bins.counters.nonFinite;
@@ -193,7 +197,7 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->execute([&] {
-    parallelFor(size_t(grid.count()), [&](size_t tile) {
+    workerParallelFor(size_t(grid.count()), [&](size_t tile) {
       if (bins.tileStart[tile] == bins.tileStart[tile + 1]) return;
       detail::FragmentStage stage(fb, state, program, &geometry, viewportRect(context));
       detail::rasterizeTile(bins, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, stage);
@@ -213,7 +217,7 @@ DrawStats Renderer::drawFullscreen(Framebuffer& fb, const PipelineState& state, 
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->execute([&] {
-    parallelFor(size_t(grid.count()), [&](size_t tile) {
+    workerParallelFor(size_t(grid.count()), [&](size_t tile) {
       detail::FragmentStage stage(fb, state, program, nullptr, viewportRect(context));
       const detail::PixelRect r = grid.tileRect(int(tile));
       for (int y = r.y0; y < r.y1; ++y)
