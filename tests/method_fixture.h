@@ -29,6 +29,17 @@ inline SceneObject quad(glm::vec3 position, float scale, glm::vec4 color, glm::v
   return o;
 }
 
+// A size × size view of full-screen layers at z ≤ 0 from the camera at (0, 0, 2), over
+// `background`: the hand-derived cases.
+inline Scene layerScene(int size, glm::vec3 background) {
+  Scene s;
+  s.width = s.height = size;
+  s.background = background;
+  s.camera.position = {0, 0, 2};
+  s.camera.target = {0, 0, 0};
+  return s;
+}
+
 // Overlapping, tilted and intersecting translucent quads (α from 0.05 to 0.95) and a particle
 // cloud, over an opaque backdrop that a few quads reach behind.
 inline Scene testScene() {

@@ -54,11 +54,7 @@ TEST_CASE("screendoor: each pixel shows the nearest fragment whose α passes its
 }
 
 TEST_CASE("screendoor: a layer of α = k/N² covers k pixels of every tile", "[methods][screendoor]") {
-  Scene s;
-  s.width = 16, s.height = 16;
-  s.background = {0, 0, 0};
-  s.camera.position = {0, 0, 2};
-  s.camera.target = {0, 0, 0};
+  Scene s = layerScene(16, {0, 0, 0});
   for (int k : {0, 1, 5, 8, 15, 16}) {
     s.objects = {quad({0, 0, 0}, 10, {1, 1, 1, float(k) / 16.0f})};
     s.objects[0].transparentOverride = true;
@@ -191,11 +187,7 @@ TEST_CASE("dualpeel: two layers at exactly the same depth collide under MAX", "[
   // first pass, so both write front = (c·α, α) and MAX keeps the component-wise maximum:
   // (0.5, 0, 0.5) with coverage 0.5 — a colour neither order gives. The exact composite (either
   // ground truth: the earlier submission in front) is red over blue: (0.5, 0, 0.25).
-  Scene s;
-  s.width = 8, s.height = 8;
-  s.background = {0, 0, 0};
-  s.camera.position = {0, 0, 2};
-  s.camera.target = {0, 0, 0};
+  Scene s = layerScene(8, {0, 0, 0});
   s.objects = {quad({0, 0, 0}, 10, {1, 0, 0, 0.5f}), quad({0, 0, 0}, 10, {0, 0, 1, 0.5f})};
   const glm::vec4 dual = render(s, "dualpeel", {{"color", "rgba32f"}}).finalFloat.fetch(4, 4);
   CHECK(dual.r == 0.5f);
@@ -229,11 +221,7 @@ TEST_CASE("stochastic: red over green over blue, the paper's example", "[methods
   // exact revealage T = 0.55² = 0.3025 the corrected colour is
   //   (0.45, 0.45·(1 − k/S), 0) / (0.45·(2 − k/S)) · (1 − T) + (0, 0, 1)·T,
   // which tends to the paper's (0.45, 0.2475, 0.3025) as k/S → α.
-  Scene s;
-  s.width = 8, s.height = 8;
-  s.background = {0, 0, 1};
-  s.camera.position = {0, 0, 2};
-  s.camera.target = {0, 0, 0};
+  Scene s = layerScene(8, {0, 0, 1});
   s.objects = {quad({0, 0, -1}, 10, {0, 1, 0, 0.45f}), quad({0, 0, 0}, 10, {1, 0, 0, 0.45f})};
   for (int samples : {8, 16, 32}) {
     const double k = std::floor(0.45 * samples + 0.5), vGreen = 1 - k / samples, t = 0.55 * 0.55;
@@ -286,7 +274,7 @@ TEST_CASE("kbuffer: the k nearest fragments composited exactly, the rest dropped
   }
 }
 
-TEST_CASE("mlab: exact with enough nodes; merges keep the total transmittance exactly", "[methods][mlab]") {
+TEST_CASE("mlab: exact with enough nodes, and merges keep the total transmittance exactly", "[methods][mlab]") {
   const FrameResult full = render(reference().scene, "mlab", {{"k", "16"}});
   forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
     requireClose(full.finalFloat, x, y, overBackToFront(f, c0), 8 * (f.size() + 2) * kU32, "mlab k=16");
@@ -316,11 +304,7 @@ TEST_CASE("mlab: exact with enough nodes; merges keep the total transmittance ex
     CHECK(merged > 100);
   }
   // Merging two depth-adjacent nodes is OVER: two layers with k = 1 are exact whatever the order.
-  Scene two;
-  two.width = 4, two.height = 4;
-  two.background = {0, 0, 1};
-  two.camera.position = {0, 0, 2};
-  two.camera.target = {0, 0, 0};
+  Scene two = layerScene(4, {0, 0, 1});
   for (bool frontFirst : {true, false}) {
     two.objects = {quad({0, 0, 0}, 10, {1, 0, 0, 0.3f}), quad({0, 0, -1}, 10, {0, 1, 0, 0.6f})};
     if (!frontFirst) std::swap(two.objects[0], two.objects[1]);

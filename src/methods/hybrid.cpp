@@ -33,7 +33,7 @@ class Hybrid final : public Method {
     for (int i = 0; i < k_; ++i)
       a.push_back(colorAttachment("core_color_" + std::to_string(i), coreFormat_, "straight (c, α) of the core's fragment " + std::to_string(i)));
     a.push_back(colorAttachment("tail", tailFormat_, "Σ(c·α, α) of the tail, blended ONE, ONE"));
-    a.push_back(colorAttachment("tail_count", "r" + tailFormat_.substr(4), "n of the tail, blended ONE, ONE"));
+    a.push_back(colorAttachment("tail_count", singleChannelFormat(tailFormat_), "n of the tail, blended ONE, ONE"));
     return a;
   }
   FrameResult render(const FrameContext& context) override {

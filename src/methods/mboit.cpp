@@ -143,10 +143,7 @@ class Mboit final : public Method {
       out.write(1, glm::vec4(c.a));
     });
 
-    run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {  // as WBOIT
-      s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);
-      return true;
-    });
+    compositeWeighted(run, t, accum, reveal);  // as WBOIT
     t.finish(result, "opaque");
     result.facts.emplace_back("moment reconstructions that fell back", std::to_string(fallbacks.load()));
     return result;

@@ -132,6 +132,13 @@ void PassRunner::blendOverBackground(FrameTargets& targets,
   });
 }
 
+void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal) {
+  run.blendOverBackground(targets, [&](const FragmentInput& in, glm::vec4& s) {
+    s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);
+    return true;
+  });
+}
+
 BlendState overBlend() {
   return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
                               BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);

@@ -83,11 +83,19 @@ class PassRunner {
   size_t currentObject_ = 0;
 };
 
+// The one-channel format with the same encoding as an RGBA one: "rgba16f" → "r16f",
+// "rgba:e8m7" → "r:e8m7" (a count or revealage beside an accumulation target).
+inline std::string singleChannelFormat(const std::string& rgbaFormat) { return "r" + rgbaFormat.substr(4); }
+
 // S_oit of WBOIT and MBOIT (thesis eq. 2.7 with McGuire–Bavoil listing 3's clamp): the weighted
 // average accum.rgb / clamp(accum.a, 1e-4, 5e4) and, as alpha, the revealage.
 inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
   return {glm::vec3(accum) / std::clamp(accum.a, 1e-4f, 5e4f), reveal};
 }
+
+// The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal)
+// blended over the background (PassRunner::blendOverBackground).
+void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal);
 
 // Bavoil–Myers's weighted average of n layers accumulated as (Σ c·α, Σ α) (n > 0): the average
 // colour Σcα / max(Σα, 1e-4) and, as alpha, the transmittance T = max(0, 1 − Σα/n)^n.

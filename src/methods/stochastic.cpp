@@ -64,7 +64,7 @@ class Stochastic final : public Method {
     for (int s = 0; s < samples_; ++s)
       a.push_back(depthAttachment("sample_depth_" + std::to_string(s), "stochastic depth of sample " + std::to_string(s)));
     a.push_back(colorAttachment("accum", accumFormat_, "Σ(c·α·v, α·v), v the share of samples not in front, ONE, ONE"));
-    a.push_back(colorAttachment("reveal", "r" + accumFormat_.substr(4), "Π(1 − α), ZERO, ONE_MINUS_SRC_COLOR"));
+    a.push_back(colorAttachment("reveal", singleChannelFormat(accumFormat_), "Π(1 − α), ZERO, ONE_MINUS_SRC_COLOR"));
     return a;
   }
   FrameResult render(const FrameContext& context) override {
@@ -111,10 +111,7 @@ class Stochastic final : public Method {
       out.write(0, glm::vec4(glm::vec3(c) * c.a * v, c.a * v));
       out.write(1, glm::vec4(c.a));
     });
-    run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {
-      s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);
-      return true;
-    });
+    compositeWeighted(run, t, accum, reveal);
     t.finish(result, "opaque");
     return result;
   }

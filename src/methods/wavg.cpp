@@ -24,8 +24,7 @@ class Wavg final : public Method {
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
     a.push_back(colorAttachment("accum", accumFormat_, "C2q: Σ(c·α, α), blended ONE, ONE"));
-    // "rgba16f" → "r16f", "rgba:e8m7" → "r:e8m7".
-    a.push_back(colorAttachment("count", "r" + accumFormat_.substr(4), "C2s: n, blended ONE, ONE"));
+    a.push_back(colorAttachment("count", singleChannelFormat(accumFormat_), "C2s: n, blended ONE, ONE"));
     return a;
   }
   FrameResult render(const FrameContext& context) override {

@@ -62,7 +62,7 @@ class Wboit final : public Method {
     std::vector<AttachmentDecl> a = opaqueAttachments();
     if (single_) {
       a.push_back(colorAttachment("accum", accumFormat_, "(Σ c·α·w, Π(1 − α)): RGB ONE, ONE; alpha ZERO, ONE_MINUS_SRC_ALPHA"));
-      a.push_back(colorAttachment("weights", "r" + accumFormat_.substr(4), "Σ α·w, the same blend function"));
+      a.push_back(colorAttachment("weights", singleChannelFormat(accumFormat_), "Σ α·w, the same blend function"));
       return a;
     }
     a.push_back(colorAttachment("accum", accumFormat_, "C2q: Σ(c·α·w, α·w), blended ONE, ONE"));
@@ -100,10 +100,7 @@ class Wboit final : public Method {
       out.write(1, glm::vec4(c.a));
     });
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
-    run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {
-      s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);
-      return true;
-    });
+    compositeWeighted(run, t, accum, reveal);
     t.finish(result, "opaque");
     return result;
   }

@@ -1,8 +1,10 @@
 #include "tools/stress.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
+#include <thread>
 
 #include "oitref/metrics.h"
 #include "util/seeded_random.h"
@@ -208,9 +210,19 @@ std::vector<StressRow> runStress(const StressOptions& o, Renderer& renderer, con
   for (const StressCondition& condition : conditions)
     for (const StressConfig& config : configs) {
       progress(condition.name + ": " + config.label(), ++item, total);
-      StressRow row{config, condition, {}};
-      for (int layers : o.layers)
-        for (float alpha : o.alphas) row.cells.push_back(stressCell(config, condition, layers, alpha, o.size, renderer));
+      StressRow row{config, condition, std::vector<StressCell>(o.layers.size() * o.alphas.size())};
+      // Cells are tiny (a 4×4 image is one tile, one worker), so the workers take whole cells,
+      // each with a one-thread renderer of its own; a cell's bits do not depend on who renders it.
+      std::atomic<size_t> next{0};
+      auto work = [&] {
+        Renderer own(RendererOptions{1, renderer.options().tileSize});
+        for (size_t i; (i = next.fetch_add(1)) < row.cells.size();)
+          row.cells[i] = stressCell(config, condition, o.layers[i / o.alphas.size()], o.alphas[i % o.alphas.size()], o.size, own);
+      };
+      std::vector<std::thread> workers;
+      for (int t = 1; t < renderer.threads(); ++t) workers.emplace_back(work);
+      work();
+      for (std::thread& w : workers) w.join();
       rows.push_back(std::move(row));
     }
   return rows;

@@ -6,27 +6,17 @@
 #include <sstream>
 
 #include "oitref/metrics.h"
+#include "tools/html.h"
 #include "tools/number_parse.h"
 
 namespace oitref::tools {
 namespace {
 
-std::string fmt(const char* pattern, double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, v);
-  return buffer;
-}
+using html::fmt;
 
 std::string alphaText(float a) {
   if (a == 1.0f - 1e-6f) return "1−1e-6";
   return fmt("%g", double(a));
-}
-
-std::string cssColour(double t) {
-  float rgb[3];
-  heatmapColour(t, rgb);
-  return "rgb(" + std::to_string(int(std::lround(rgb[0] * 255))) + "," + std::to_string(int(std::lround(rgb[1] * 255))) +
-         "," + std::to_string(int(std::lround(rgb[2] * 255))) + ")";
 }
 
 // Errors on a log scale: 1e-6 and below black, 1 and above white.
@@ -55,7 +45,7 @@ std::string atlasTable(const StressRow& row, const StressOptions& o) {
       else if (!c.infIn.empty()) mark = "∞", cls = " class=overflow";
       else if (c.revealUnderflow) mark = "0", cls = " class=underflow";
       else if (c.momentFallbacks) mark = "f", cls = " class=fallback";
-      t << "<td" << cls << " style=\"background:" << (c.nonFinitePixels ? std::string("#0f0") : cssColour(errorScale(c.error)))
+      t << "<td" << cls << " style=\"background:" << (c.nonFinitePixels ? std::string("#0f0") : html::heatmapCss(errorScale(c.error)))
         << "\" title=\"n=" << c.layers << " α=" << alphaText(c.alpha) << ": error " << fmt("%.3g", c.error) << ". "
         << failures(c) << "\">" << mark << "</td>";
     }
@@ -111,9 +101,7 @@ std::string stressHtml(const std::vector<StressRow>& rows, const StressOptions& 
        "reconstruction fell back to the fragment's own layer. Hover a cell for its numbers; every number is in "
        "<a href=atlas.json>atlas.json</a> and <a href=atlas.csv>atlas.csv</a>. "
     << rows.size() << " rows, " << fmt("%.1f", seconds) << " s.</p>\n<div class=legend><span>error ≤ 1e-6</span><div class=bar "
-       "style=\"background:linear-gradient(to right";
-  for (int i = 0; i <= 10; ++i) h << "," << cssColour(i / 10.0) << " " << i * 10 << "%";
-  h << ")\"></div><span>≥ 1 (1e-6, 1e-5, …, 1 evenly)</span></div>\n";
+       "style=\"background:" << html::heatmapGradientCss() << "\"></div><span>≥ 1 (1e-6, 1e-5, …, 1 evenly)</span></div>\n";
   // Findings first: where each failure starts.
   h << "<h2 id=findings>Where each failure starts</h2>\n<table class=findings><tr><th>condition</th><th>method and format</th>"
        "<th>failure</th><th>first at n</th><th>with α</th><th>cells</th></tr>\n";

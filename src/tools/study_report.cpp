@@ -8,42 +8,19 @@
 #include <sstream>
 
 #include "oitref/metrics.h"
+#include "tools/html.h"
 #include "tools/number_parse.h"
 
 namespace oitref::tools {
 namespace {
 
-std::string fmt(const char* pattern, double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, v);
-  return buffer;
-}
-
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
-
-std::string cssColour(double t) {
-  float rgb[3];
-  heatmapColour(t, rgb);
-  return "rgb(" + std::to_string(int(std::lround(rgb[0] * 255))) + "," + std::to_string(int(std::lround(rgb[1] * 255))) +
-         "," + std::to_string(int(std::lround(rgb[2] * 255))) + ")";
-}
+using html::escape;
+using html::fmt;
 
 // The heatmaps' colour scale as a CSS gradient, from the same function that paints them.
 std::string legendHtml(double scale) {
-  std::string stops;
-  for (int i = 0; i <= 10; ++i) stops += (i ? "," : "") + cssColour(i / 10.0) + " " + std::to_string(i * 10) + "%";
-  return "<div class=legend><span>|Δ| 0</span><div class=bar style=\"background:linear-gradient(to right," + stops +
-         ")\"></div><span>" + fmt("%.3g", scale) + " and above</span><span class=nonfinite>■ non-finite</span></div>\n";
+  return "<div class=legend><span>|Δ| 0</span><div class=bar style=\"background:" + html::heatmapGradientCss() +
+         "\"></div><span>" + fmt("%.3g", scale) + " and above</span><span class=nonfinite>■ non-finite</span></div>\n";
 }
 
 // 20 distinguishable colours (the first ten are the common "category10" set).
