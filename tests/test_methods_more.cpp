@@ -7,6 +7,7 @@
 #include <set>
 
 #include "method_fixture.h"
+#include "methods/dfaoit_network.h"
 #include "methods/methods.h"
 #include "oitref/depth.h"
 
@@ -313,4 +314,65 @@ TEST_CASE("mlab: exact with enough nodes, and merges keep the total transmittanc
     CHECK(got.g == Approx(0.7 * 0.6).margin(1e-6));
     CHECK(got.b == Approx(0.7 * 0.4).margin(1e-6));
   }
+}
+
+namespace {
+
+// The network in double, straight from its definition (dfaoit_network.h's layout).
+glm::dvec3 mlpInDouble(const methods::DfaoitParameters& p, const double x[10]) {
+  const float* w1 = p.data();
+  const float* b1 = w1 + 320;
+  const float* w2 = b1 + 32;
+  const float* b2 = w2 + 512;
+  const float* w3 = b2 + 16;
+  const float* b3 = w3 + 48;
+  double h1[32], h2[16];
+  for (int i = 0; i < 32; ++i) {
+    double s = b1[i];
+    for (int j = 0; j < 10; ++j) s += double(w1[i * 10 + j]) * x[j];
+    h1[i] = s > 0 ? s : 0;
+  }
+  for (int i = 0; i < 16; ++i) {
+    double s = b2[i];
+    for (int j = 0; j < 32; ++j) s += double(w2[i * 32 + j]) * h1[j];
+    h2[i] = s > 0 ? s : 0;
+  }
+  glm::dvec3 y;
+  for (int i = 0; i < 3; ++i) {
+    double s = b3[i];
+    for (int j = 0; j < 16; ++j) s += double(w3[i * 16 + j]) * h2[j];
+    y[i] = 1 / (1 + std::exp(-s));
+  }
+  return y;
+}
+
+}  // namespace
+
+TEST_CASE("dfaoit: exact up to two layers, the network on the paper's features beyond", "[methods][dfaoit]") {
+  const FrameResult df = render(reference().scene, "dfaoit", {{"accum", "rgba32f"}});
+  const methods::DfaoitParameters& p = methods::dfaoitTrainedParameters();
+  int inferred = 0;
+  forEachPixel([&](int x, int y, std::vector<TransparentFragment> f, glm::dvec3 c0) {
+    if (f.empty()) return requireClose(df.finalFloat, x, y, c0, 0.0, "dfaoit, no layer");
+    std::stable_sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.windowDepth < b.windowDepth; });
+    double t = 1;
+    for (const auto& fr : f) t *= 1.0 - fr.color.a;
+    if (f.size() <= 2) return requireClose(df.finalFloat, x, y, overBackToFront(f, c0), 8 * kU32 * 4, "dfaoit, exact path");
+    ++inferred;
+    // The features (paper §3.1) in double from the sorted fragments.
+    const glm::dvec4 a(f[0].color), b(f[1].color);
+    const glm::dvec3 g = glm::dvec3(a) * a.a + glm::dvec3(b) * ((1 - a.a) * b.a);
+    glm::dvec3 rest(0.0), acc(0.0);
+    double restAlpha = 0;
+    for (size_t i = 0; i < f.size(); ++i) {
+      acc += glm::dvec3(glm::vec3(f[i].color)) * double(f[i].color.a);
+      if (i >= 2) rest += glm::dvec3(glm::vec3(f[i].color)), restAlpha += f[i].color.a;
+    }
+    const double m = double(f.size()) - 2;
+    const double features[10] = {g.r, g.g, g.b, restAlpha / m, rest.r / m, rest.g / m, rest.b / m, acc.r, acc.g, acc.b};
+    // fp32 sums and a fp32 network: its weights amplify the features' roundings by at most
+    // Π‖W‖ (a few hundred here), so 1e-3 is loose for that and tight for any other formula.
+    requireClose(df.finalFloat, x, y, mlpInDouble(p, features) + c0 * t, 1e-3, "dfaoit, network");
+  });
+  CHECK(inferred > 200);
 }

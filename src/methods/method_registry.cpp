@@ -28,6 +28,7 @@ const std::vector<Entry>& registry() {
       {methods::hybridInfo, methods::makeHybrid},
       {methods::stochasticInfo, methods::makeStochastic},
       {methods::mlabInfo, methods::makeMlab},     {methods::kbufferInfo, methods::makeKbuffer},
+      {methods::dfaoitInfo, methods::makeDfaoit},
       {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},
   };
   return entries;

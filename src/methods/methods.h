@@ -31,6 +31,8 @@ const MethodInfo& mlabInfo();
 std::unique_ptr<Method> makeMlab(const MethodOptions& options);
 const MethodInfo& kbufferInfo();
 std::unique_ptr<Method> makeKbuffer(const MethodOptions& options);
+const MethodInfo& dfaoitInfo();
+std::unique_ptr<Method> makeDfaoit(const MethodOptions& options);
 const MethodInfo& stochasticInfo();
 std::unique_ptr<Method> makeStochastic(const MethodOptions& options);
 // The coverage mask of one fragment: round(α·samples) of the low `samples` bits (stochastic.cpp).

@@ -41,6 +41,7 @@ void addMethodsCommand(CLI::App& app, int& exitCode);
 void addSuiteCommand(CLI::App& app, int& exitCode);
 void addStudyCommand(CLI::App& app, int& exitCode);
 void addStressCommand(CLI::App& app, int& exitCode);
+void addTrainCommand(CLI::App& app, int& exitCode);
 void addGlcheckCommand(CLI::App& app, int& exitCode);  // only when built with OITREF_HAVE_GLCHECK
 
 }  // namespace oitref::tools

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   oitref::tools::addSuiteCommand(app, exitCode);
   oitref::tools::addStudyCommand(app, exitCode);
   oitref::tools::addStressCommand(app, exitCode);
+  oitref::tools::addTrainCommand(app, exitCode);
   oitref::tools::addCompareCommand(app, exitCode);
 #if defined(OITREF_HAVE_GLCHECK)
   oitref::tools::addGlcheckCommand(app, exitCode);

@@ -78,6 +78,7 @@ std::vector<StressConfig> stressConfigs() {
       {"mlab", {}},
       {"mlab", {{"node", "rgba8"}}},
       {"kbuffer", {}},
+      {"dfaoit", {}},
       {"abuffer", {}},
   };
 }

@@ -55,6 +55,7 @@ std::vector<StudyVariant> studyVariants() {
       {"stochastic", {{{"samples", "16"}}, {{"samples", "32"}}}},
       {"mlab", {{{"k", "2"}}, {{"k", "8"}}, {{"node", "rgba8"}}}},
       {"kbuffer", {{{"k", "8"}}, {{"k", "16"}}}},
+      {"dfaoit", {{{"accum", "rgba32f"}}}},
       {"mboit", {{{"bias", "0"}}, {{"warp", "log"}}, {{"accum", "rgba16f"}}}},
       {"peel", {{{"passes", "1"}}, {{"passes", "2"}}, {{"passes", "4"}}, {{"passes", "8"}}, {{"passes", "16"}}}},
       {"abuffer", {{{"precision", "double"}}}},
