@@ -168,3 +168,15 @@ TEST_CASE("Atlas: every failure of docs/atlas.md starts where the atlas says", "
     CHECK(!shows(cell(f.method, f.options, f.condition, f.first / 2, f.alpha), f.what));
   }
 }
+
+TEST_CASE("Atlas: DFAOIT cannot add more than 1 per channel: HDR layers are clipped", "[atlas]") {
+  // The network ends in a sigmoid (the paper's architecture): the transparent colour it adds
+  // is below 1 in every channel, so HDR layers (colours × 16) lose almost all their energy;
+  // up to two layers the method composites exactly and has no such limit.
+  CHECK(cell("dfaoit", {}, "hdr", 2, 0.5f).error < 1e-3);
+  const StressCell four = cell("dfaoit", {}, "hdr", 4, 0.5f);
+  CHECK(four.error > 9);
+  CHECK(four.nonFinitePixels == 0);
+  // The same scene in [0, 1] colours stays within the method's ordinary error.
+  CHECK(cell("dfaoit", {}, "base", 4, 0.5f).error < 0.1);
+}
