@@ -27,12 +27,15 @@ StudyRow row(const std::string& method, double ms, double rmse) {
 
 TEST_CASE("Study: the Pareto front by hand", "[study]") {
   // (ms, RMSE): b is dominated by a (slower and worse), d by c, e ties c in error but is slower;
-  // f is exact and slowest, still on the front. Row 0 (the ground truth) never counts.
-  const std::vector<StudyRow> rows = {row("truth", 0.1, 0),  row("a", 1, 0.1),   row("b", 2, 0.2),
-                                      row("c", 3, 0.01),     row("d", 4, 0.05),  row("e", 5, 0.01),
-                                      row("f", 9, 0)};
-  const std::vector<size_t> front = paretoFront(rows, 1e-6);
-  CHECK(front == std::vector<size_t>{1, 3, 6});
+  // f is exact and slowest, still on the front; g is exact but slower than f.
+  const std::vector<StudyRow> rows = {row("truth", 12, 0), row("a", 1, 0.1),  row("b", 2, 0.2),
+                                      row("c", 3, 0.01),   row("d", 4, 0.05), row("e", 5, 0.01),
+                                      row("f", 9, 0),      row("g", 10, 1e-9)};
+  CHECK(paretoFront(rows, 1e-6) == std::vector<size_t>{1, 3, 6});
+  // The ground truth is a method too: when it is the fastest exact one, it ends the front.
+  std::vector<StudyRow> fast = rows;
+  fast[0].ms = 8;
+  CHECK(paretoFront(fast, 1e-6) == std::vector<size_t>{1, 3, 0});
 }
 
 TEST_CASE("Study: every row's numbers are those of its own render against the A-buffer", "[study]") {

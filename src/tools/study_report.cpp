@@ -43,7 +43,7 @@ std::string scatterSvg(const StudyScene& s, std::map<std::string, int>& colours)
   if (s.rows.size() < 2) return "";
   double msLo = 1e300, msHi = 0, eLo = 1e300, eHi = 0;
   bool anyExact = false;
-  for (size_t i = 1; i < s.rows.size(); ++i) {
+  for (size_t i = 0; i < s.rows.size(); ++i) {
     const StudyRow& r = s.rows[i];
     msLo = std::min(msLo, r.ms), msHi = std::max(msHi, r.ms);
     if (r.rmse < kExact) anyExact = true;
@@ -101,7 +101,7 @@ std::string scatterSvg(const StudyScene& s, std::map<std::string, int>& colours)
     steps += " " + fmt("%.1f", px(r.ms)) + "," + fmt("%.1f", py(r.rmse));
   }
   svg << "<polyline class=front points=\"" << steps << "\" />\n";
-  for (size_t i = 1; i < s.rows.size(); ++i) {
+  for (size_t i = 0; i < s.rows.size(); ++i) {
     const StudyRow& r = s.rows[i];
     const bool onFront = std::find(front.begin(), front.end(), i) != front.end();
     svg << "<circle cx=" << fmt("%.1f", px(r.ms)) << " cy=" << fmt("%.1f", py(r.rmse)) << " r=" << (onFront ? 6 : 4)
@@ -118,7 +118,7 @@ std::string scatterSvg(const StudyScene& s, std::map<std::string, int>& colours)
   // Method key.
   double ky = top + 8;
   std::vector<std::string> seen;
-  for (size_t i = 1; i < s.rows.size(); ++i) {
+  for (size_t i = 0; i < s.rows.size(); ++i) {
     const std::string& m = s.rows[i].variant.method;
     if (std::find(seen.begin(), seen.end(), m) != seen.end()) continue;
     seen.push_back(m);
@@ -233,10 +233,10 @@ window.addEventListener('load', () => {
 
 std::vector<size_t> paretoFront(const std::vector<StudyRow>& rows, double floor) {
   std::vector<size_t> front;
-  for (size_t i = 1; i < rows.size(); ++i) {
+  for (size_t i = 0; i < rows.size(); ++i) {
     const double ti = rows[i].ms, ei = std::max(rows[i].rmse, floor);
     bool dominated = false;
-    for (size_t j = 1; j < rows.size() && !dominated; ++j) {
+    for (size_t j = 0; j < rows.size() && !dominated; ++j) {
       const double tj = rows[j].ms, ej = std::max(rows[j].rmse, floor);
       dominated = j != i && tj <= ti && ej <= ei && (tj < ti || ej < ei);
     }
