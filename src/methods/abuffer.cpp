@@ -87,27 +87,21 @@ class Abuffer final : public Method {
       fragments[start[p] + filled[p]++] = {in.depth, in.viewDepth, c, uint32_t(run.currentObject()), in.primitiveId};
     });
 
-    Framebuffer out = t.present(false);
-    PipelineState plain;
-    plain.profile = context.profile;
-    Image& opaque = t.color("opaque");
-    Image& analysis = t.analysis();
     const bool useDouble = useDouble_;
-    run.fullscreenPass("sort+composite", out, plain, [&](const FragmentInput& in, FragmentOutput& o) {
+    run.compositeOntoBackgrounds(t, "sort+composite", [&](const FragmentInput& in, const glm::vec3 c0[2], glm::vec3 out[2]) {
       const size_t p = size_t(in.y) * w + in.x;
       const size_t n = count[p];
-      if (n == 0) return;
+      if (n == 0) return false;
       // Sort a copy: the stored lists stay in submission order for the result.
       thread_local std::vector<StoredFragment> sorted;
       sorted.assign(fragments.begin() + std::ptrdiff_t(start[p]), fragments.begin() + std::ptrdiff_t(start[p] + n));
       std::stable_sort(sorted.begin(), sorted.end(), [](const StoredFragment& a, const StoredFragment& b) {
         return a.viewDepth != b.viewDepth ? a.viewDepth < b.viewDepth : a.windowDepth < b.windowDepth;
       });
-      const StoredFragment* f = sorted.data();
-      const glm::vec3 c8 = glm::vec3(opaque.fetch(in.x, in.y)), cf = glm::vec3(analysis.fetch(in.x, in.y));
       const auto composite = useDouble ? compositeBackToFront<double> : compositeBackToFront<float>;
-      o.write(0, glm::vec4(composite(f, n, c8), 1.0f));
-      o.write(1, glm::vec4(composite(f, n, cf), 1.0f));
+      out[0] = composite(sorted.data(), n, c0[0]);
+      out[1] = composite(sorted.data(), n, c0[1]);
+      return true;
     });
 
     uint64_t covered = 0;

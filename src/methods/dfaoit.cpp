@@ -75,15 +75,10 @@ class Dfaoit final : public Method {
       out.write(1, glm::vec4(glm::vec3(c) * c.a, c.a));
       out.write(2, glm::vec4(1.0f));
     });
-    Framebuffer present = t.present(false);
-    PipelineState plain;
-    plain.profile = profile;
-    Image& opaque = t.color("opaque");
-    Image& analysis = t.analysis();
     const DfaoitParameters& network = dfaoitTrainedParameters();
-    run.fullscreenPass("inference", present, plain, [&](const FragmentInput& in, FragmentOutput& o) {
+    run.compositeOntoBackgrounds(t, "inference", [&](const FragmentInput& in, const glm::vec3 c0[2], glm::vec3 out[2]) {
       const float n = count.fetch(in.x, in.y).r;
-      if (n == 0.0f) return;  // no transparent layer: the background stays
+      if (n == 0.0f) return false;  // no transparent layer: the background stays
       const glm::vec4 c1 = color[0]->fetch(in.x, in.y);
       const glm::vec4 c2 = n >= 2.0f ? color[1]->fetch(in.x, in.y) : glm::vec4(0.0f);
       const glm::vec3 g = glm::vec3(c1) * c1.a + glm::vec3(c2) * ((1.0f - c1.a) * c2.a);
@@ -95,8 +90,8 @@ class Dfaoit final : public Method {
         dfaoitFeatures(g, glm::vec3(sum) - glm::vec3(c1) - glm::vec3(c2), sum.a - c1.a - c2.a, n, glm::vec3(p), x);
         transparent = dfaoitEvaluate(network, x);
       }
-      o.write(0, glm::vec4(transparent + glm::vec3(opaque.fetch(in.x, in.y)) * p.a, 1.0f));
-      o.write(1, glm::vec4(transparent + glm::vec3(analysis.fetch(in.x, in.y)) * p.a, 1.0f));
+      for (int target = 0; target < 2; ++target) out[target] = transparent + c0[target] * p.a;
+      return true;
     });
     t.finish(result, "opaque");
     return result;

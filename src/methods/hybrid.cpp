@@ -82,25 +82,20 @@ class Hybrid final : public Method {
                           out.write(1, glm::vec4(1.0f));
                         });
     // The core over the tail over the background, in each presented target's own background.
-    Framebuffer present = t.present(false);
-    PipelineState plain;
-    plain.profile = profile;
-    Image& opaque = t.color("opaque");
-    Image& analysis = t.analysis();
-    run.fullscreenPass("composite", present, plain, [&](const FragmentInput& in, FragmentOutput& o) {
+    run.compositeOntoBackgrounds(t, "composite", [&](const FragmentInput& in, const glm::vec3 c0[2], glm::vec3 out[2]) {
       const float n = tailCount.fetch(in.x, in.y).r;
       glm::vec4 tailResolve(0.0f, 0.0f, 0.0f, 1.0f);  // (avg, T): no tail lets the background through
       if (n > 0.0f) tailResolve = weightedAverageResolve(tail.fetch(in.x, in.y), n);
       for (int target = 0; target < 2; ++target) {
-        const glm::vec3 c0(target == 0 ? opaque.fetch(in.x, in.y) : analysis.fetch(in.x, in.y));
-        glm::vec3 result = glm::vec3(tailResolve) * (1.0f - tailResolve.a) + c0 * tailResolve.a;
+        glm::vec3 result = glm::vec3(tailResolve) * (1.0f - tailResolve.a) + c0[target] * tailResolve.a;
         for (int i = k - 1; i >= 0; --i) {
           if (depth[size_t(i)]->fetch(in.x, in.y).r == kEmpty) continue;
           const glm::vec4 s = color[size_t(i)]->fetch(in.x, in.y);
           result = glm::vec3(s) * s.a + result * (1.0f - s.a);
         }
-        o.write(target, glm::vec4(result, 1.0f));
+        out[target] = result;
       }
+      return true;
     });
     t.finish(result, "opaque");
     return result;

@@ -132,6 +132,21 @@ void PassRunner::blendOverBackground(FrameTargets& targets,
   });
 }
 
+void PassRunner::compositeOntoBackgrounds(FrameTargets& targets, const std::string& name, const ShaderComposite& resolve) {
+  Framebuffer out = targets.present(false);
+  PipelineState plain;
+  plain.profile = context_.profile;
+  const Image& opaque = targets.color("opaque");
+  const Image& analysis = targets.analysis();
+  fullscreenPass(name, out, plain, [&](const FragmentInput& in, FragmentOutput& o) {
+    const glm::vec3 background[2] = {glm::vec3(opaque.fetch(in.x, in.y)), glm::vec3(analysis.fetch(in.x, in.y))};
+    glm::vec3 result[2];
+    if (!resolve(in, background, result)) return;
+    o.write(0, glm::vec4(result[0], 1.0f));
+    o.write(1, glm::vec4(result[1], 1.0f));
+  });
+}
+
 void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal) {
   run.blendOverBackground(targets, [&](const FragmentInput& in, glm::vec4& s) {
     s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);

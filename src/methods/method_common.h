@@ -74,6 +74,12 @@ class PassRunner {
   // shader returns (colour, T) — or nothing to keep the background — blended into "opaque" and
   // the analysis copy with C = C_s·(1 − α_s) + C_d·α_s (alpha kept).
   void blendOverBackground(FrameTargets& targets, const std::function<bool(const FragmentInput&, glm::vec4&)>& source);
+  // The composite of the methods that blend in the shader (A-buffer, hybrid, MLAB, DFAOIT): a
+  // full-screen pass named `name` whose `resolve` gets the pixel's background in each presented
+  // target — [0] the RGBA8 "opaque", [1] the RGBA32F analysis copy — and returns the composite
+  // over each in result[0], result[1] (written with alpha 1), or false to keep both.
+  using ShaderComposite = std::function<bool(const FragmentInput&, const glm::vec3 background[2], glm::vec3 result[2])>;
+  void compositeOntoBackgrounds(FrameTargets& targets, const std::string& name, const ShaderComposite& resolve);
   // One full-screen pass.
   void fullscreenPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const FragmentShader& shader);
 

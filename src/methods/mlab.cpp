@@ -77,12 +77,7 @@ class LayeredNodes final : public Method {
                             color[size_t(k - 1)]->store(in.x, in.y, mergeNodes(last, overflow), profile);
                           }
                         });
-    Framebuffer present = t.present(false);
-    PipelineState plain;
-    plain.profile = profile;
-    Image& opaque = t.color("opaque");
-    Image& analysis = t.analysis();
-    run.fullscreenPass("composite", present, plain, [&](const FragmentInput& in, FragmentOutput& o) {
+    run.compositeOntoBackgrounds(t, "composite", [&](const FragmentInput& in, const glm::vec3 c0[2], glm::vec3 out[2]) {
       glm::vec3 sum(0.0f);
       float transmittance = 1.0f;
       for (int i = 0; i < k && depth[size_t(i)]->fetch(in.x, in.y).r != kEmpty; ++i) {
@@ -90,8 +85,8 @@ class LayeredNodes final : public Method {
         sum += glm::vec3(n) * transmittance;
         transmittance *= n.a;
       }
-      o.write(0, glm::vec4(sum + glm::vec3(opaque.fetch(in.x, in.y)) * transmittance, 1.0f));
-      o.write(1, glm::vec4(sum + glm::vec3(analysis.fetch(in.x, in.y)) * transmittance, 1.0f));
+      for (int target = 0; target < 2; ++target) out[target] = sum + c0[target] * transmittance;
+      return true;
     });
     t.finish(result, "opaque");
     return result;
