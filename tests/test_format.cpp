@@ -1,6 +1,7 @@
 // Texel layouts, hand-derived from the GL packed-type tables (GL 4.6 §8.4.4.2, table 8.8).
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstring>
 
 #include "oitref/format.h"
@@ -52,12 +53,18 @@ TEST_CASE("format: packed layouts put each channel where GL's _REV types do", "[
 TEST_CASE("format: array formats store little-endian channels in order", "[format]") {
   CHECK(bitsOf("rgba16f", {1, 0.5f, 0, 1}) == "3c00 3800 0000 3c00");
   CHECK(bitsOf("rgba8", {1, 0.5f, 0, 1}) == "ff 80 00 ff");
+  // UNORM16 (GL 4.6 §2.3.5.2): 0.5·65535 = 32767.5 ties to even 32768; fp32 1/3 is
+  // 0.3333333433, ·65535 = 21845.0007 -> 21845 = 0x5555; out of range clamps; NaN -> 0.
+  CHECK(bitsOf("rgba16", {1, 0.5f, 1.0f / 3.0f, 2}) == "ffff 8000 5555 ffff");
+  CHECK(bitsOf("rg16", {-1, std::nanf(""), 0, 0}) == "0000 0000");
   CHECK(bitsOf("rg32f", {1, -2, 0, 0}) == "3f800000 c0000000");
   CHECK(bitsOf("r16f", {65520, 0, 0, 0}) == "7c00");
   CHECK(bitsOf("r16f", {65520, 0, 0, 0}, llvmpipeProfile()) == "7bff");
   CHECK(bitsOf("rgba:e8m7", {1, -2, 0.1f, 3}) == "3f80 c000 3dcd 4040");
   CHECK(bitsOf("rg:e4m3fn", {448, -1000, 0, 0}) == "7e fe");
   CHECK(parseFormat("rgba16f").bytesPerTexel() == 8);
+  CHECK(parseFormat("rgba16").bytesPerTexel() == 8);
+  CHECK(parseFormat("r16").bytesPerTexel() == 2);
   CHECK(parseFormat("r11g11b10f").bytesPerTexel() == 4);
   CHECK(parseFormat("rgba:e4m3fn").bytesPerTexel() == 4);
   CHECK(parseFormat("rgb:e7m16").bytesPerTexel() == 12);
@@ -80,10 +87,10 @@ TEST_CASE("format: names parse and unknown names get the list", "[format]") {
   for (const std::string& n : builtinFormatNames()) CHECK(parseFormat(n).name() == n);
   CHECK(parseFormat("rgba:e8m7").name() == "rgba:e8m7");
   try {
-    parseFormat("rgba16");
+    parseFormat("rgba12");
     FAIL("no exception");
   } catch (const std::invalid_argument& e) {
-    CHECK_THAT(e.what(), Catch::Contains("rgba16f") && Catch::Contains("unknown format 'rgba16'"));
+    CHECK_THAT(e.what(), Catch::Contains("rgba16f") && Catch::Contains("unknown format 'rgba12'"));
   }
   CHECK_THROWS_AS(parseFormat("xyz:e5m2"), std::invalid_argument);
 }
@@ -112,4 +119,16 @@ TEST_CASE("image: clear and store write the converted bits everywhere", "[format
   CHECK(img.sizeBytes() == 5 * 3 * 8);
   CHECK_THROWS_AS(Image(parseFormat("rgba8"), 0, 4), std::invalid_argument);
   CHECK_THROWS_AS(Image(parseFormat("rgba8"), 20000, 4), std::invalid_argument);
+}
+
+TEST_CASE("format: every UNORM16 code decodes to k/65535 and encodes back to itself", "[format]") {
+  const Format f = parseFormat("r16");
+  for (uint32_t k = 0; k <= 0xffff; ++k) {
+    const uint8_t in[2] = {uint8_t(k & 0xff), uint8_t(k >> 8)};
+    const float v = decodeTexel(f, in).r;
+    REQUIRE(double(v) == Approx(double(k) / 65535.0).epsilon(1e-7));
+    uint8_t out[2] = {};
+    encodeTexel(f, {v, 0, 0, 0}, exactProfile(), out);
+    REQUIRE((out[0] | (out[1] << 8)) == int(k));
+  }
 }

@@ -23,6 +23,7 @@ namespace oitref {
 
 enum class FormatId : uint8_t {
   R8, RG8, RGBA8, RGB10A2,
+  R16, RG16, RGBA16,  // 16-bit UNORM
   R16F, RG16F, RGBA16F,
   R32F, RG32F, RGBA32F,
   R11G11B10F,
@@ -44,7 +45,7 @@ struct Format {
   bool isPacked() const { return id == FormatId::RGB10A2 || id == FormatId::R11G11B10F; }
   bool isUnorm() const { return encoding() == ChannelEncoding::Unorm; }
   bool hasAlpha() const { return channels == 4; }
-  int unormBits(int channel) const;  // rgba8: 8; rgb10a2: 10,10,10,2
+  int unormBits(int channel) const;  // rgba8: 8; rgba16: 16; rgb10a2: 10,10,10,2
 };
 
 Format makeFormat(FormatId id);

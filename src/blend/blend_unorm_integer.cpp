@@ -49,6 +49,14 @@ uint32_t lerpUnorm8(uint32_t x, uint32_t v0, uint32_t v1) {
   return uint32_t(int(v0) + step) & 0xffu;
 }
 
+// The same on 16-bit normalized integers, widened to 32 bits (no pmulhrsw): x scaled to
+// [0, 65536] as x + (x >> 15), then v0 + ((x·(v1 − v0)) >> 16), truncating (arithmetic shift).
+uint32_t lerpUnorm16(uint32_t x, uint32_t v0, uint32_t v1) {
+  const int64_t scaled = int64_t(x + (x >> 15));
+  const int64_t delta = int64_t(v1) - int64_t(v0);
+  return uint32_t(int64_t(v0) + ((scaled * delta) >> 16)) & 0xffffu;
+}
+
 // llvmpipe blends a one-channel UNORM target with complementary factors and ADD as a lerp
 // (lp_build_blend: the factors cannot differ between channels when there is one channel).
 // Factors are first sanitised as llvmpipe does for targets without alpha.
@@ -71,7 +79,11 @@ void loadCodes(const Format& f, const uint8_t* texel, uint32_t codes[4]) {
     std::memcpy(&w, texel, 4);
     for (int ch = 0; ch < 4; ++ch) codes[ch] = (w >> kRgb10a2Shift[ch]) & ((1u << kRgb10a2Bits[ch]) - 1);
   } else {
-    for (int ch = 0; ch < f.channels; ++ch) codes[ch] = texel[ch];
+    const int bytes = f.unormBits(0) / 8;
+    for (int ch = 0; ch < f.channels; ++ch) {
+      codes[ch] = 0;
+      std::memcpy(&codes[ch], texel + ch * bytes, size_t(bytes));  // little-endian, like the texel
+    }
   }
 }
 
@@ -86,8 +98,9 @@ void storeCodes(const Format& f, const uint32_t codes[4], unsigned mask, uint8_t
     }
     std::memcpy(texel, &w, 4);
   } else {
+    const int bytes = f.unormBits(0) / 8;
     for (int ch = 0; ch < f.channels; ++ch)
-      if (mask & (1u << ch)) texel[ch] = uint8_t(codes[ch]);
+      if (mask & (1u << ch)) std::memcpy(texel + ch * bytes, &codes[ch], size_t(bytes));
   }
 }
 
@@ -106,10 +119,11 @@ void blendUnormInteger(const Format& f, const BlendState& state, const glm::vec4
   for (int ch = 0; ch < f.channels; ++ch) d[ch] = widenUnormBits(codes[ch], channelBits(f, ch), w);
   const uint32_t ad = f.hasAlpha() ? d[3] : max;
   unsigned fs = 0, fd = 0;
-  if (w == 8 && isLerpCase(f, state, fs, fd)) {
+  if ((w == 8 || f.unormBits(0) == 16) && isLerpCase(f, state, fs, fd)) {
+    auto lerp = w == 8 ? lerpUnorm8 : lerpUnorm16;
     if (writeMask & 1u) {
       const uint32_t sf = factorInteger(state.srcRgb, 0, s, d, ad, c, max), df = factorInteger(state.dstRgb, 0, s, d, ad, c, max);
-      codes[0] = fs < fd ? lerpUnorm8(sf, d[0], s[0]) : lerpUnorm8(df, s[0], d[0]);
+      codes[0] = fs < fd ? lerp(sf, d[0], s[0]) : lerp(df, s[0], d[0]);
     }
     storeCodes(f, codes, writeMask, texel);
     return;

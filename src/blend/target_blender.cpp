@@ -36,7 +36,7 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
     const int c = format.channels;
     switch (format.encoding()) {
       case ChannelEncoding::Unorm:
-        kernel_ = format.isPacked() ? genericKernel : c == 4 ? unorm8Kernel<4> : c == 2 ? unorm8Kernel<2> : unorm8Kernel<1>;
+        kernel_ = format.isPacked() || format.unormBits(0) != 8 ? genericKernel : c == 4 ? unorm8Kernel<4> : c == 2 ? unorm8Kernel<2> : unorm8Kernel<1>;
         break;
       case ChannelEncoding::Half:
         kernel_ = c == 4 ? halfKernel<4> : c == 2 ? halfKernel<2> : halfKernel<1>;

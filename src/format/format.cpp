@@ -21,6 +21,7 @@ struct BuiltinFormat {
 };
 constexpr BuiltinFormat kBuiltins[] = {
     {"r8", FormatId::R8, 1},         {"rg8", FormatId::RG8, 2},         {"rgba8", FormatId::RGBA8, 4},
+    {"r16", FormatId::R16, 1},       {"rg16", FormatId::RG16, 2},       {"rgba16", FormatId::RGBA16, 4},
     {"rgb10a2", FormatId::RGB10A2, 4}, {"r16f", FormatId::R16F, 1},     {"rg16f", FormatId::RG16F, 2},
     {"rgba16f", FormatId::RGBA16F, 4}, {"r32f", FormatId::R32F, 1},     {"rg32f", FormatId::RG32F, 2},
     {"rgba32f", FormatId::RGBA32F, 4}, {"r11g11b10f", FormatId::R11G11B10F, 3},
@@ -65,6 +66,7 @@ std::string Format::name() const {
 ChannelEncoding Format::encoding() const {
   switch (id) {
     case FormatId::R8: case FormatId::RG8: case FormatId::RGBA8: case FormatId::RGB10A2:
+    case FormatId::R16: case FormatId::RG16: case FormatId::RGBA16:
       return ChannelEncoding::Unorm;
     case FormatId::R16F: case FormatId::RG16F: case FormatId::RGBA16F: return ChannelEncoding::Half;
     case FormatId::R32F: case FormatId::RG32F: case FormatId::RGBA32F: return ChannelEncoding::Float32;
@@ -76,7 +78,7 @@ ChannelEncoding Format::encoding() const {
 
 int Format::bytesPerChannel() const {
   switch (encoding()) {
-    case ChannelEncoding::Unorm: return id == FormatId::RGB10A2 ? 0 : 1;
+    case ChannelEncoding::Unorm: return id == FormatId::RGB10A2 ? 0 : unormBits(0) / 8;
     case ChannelEncoding::Half: return 2;
     case ChannelEncoding::Float32: return 4;
     case ChannelEncoding::PackedFloat11_10: return 0;
@@ -90,7 +92,10 @@ int Format::bytesPerChannel() const {
 
 int Format::bytesPerTexel() const { return isPacked() ? 4 : channels * bytesPerChannel(); }
 
-int Format::unormBits(int channel) const { return id == FormatId::RGB10A2 ? kRgb10a2Bits[channel] : 8; }
+int Format::unormBits(int channel) const {
+  if (id == FormatId::RGB10A2) return kRgb10a2Bits[channel];
+  return id == FormatId::R16 || id == FormatId::RG16 || id == FormatId::RGBA16 ? 16 : 8;
+}
 
 Format makeFormat(FormatId id) {
   for (const auto& b : kBuiltins)
@@ -141,7 +146,8 @@ void encodeTexel(const Format& f, const glm::vec4& v, const Profile& profile, ui
         }
         storeWord(texel, w);
       } else {
-        for (int c = 0; c < f.channels; ++c) texel[c] = uint8_t(encodeUnorm(v[c], 8, profile.unorm));
+        const int bits = f.unormBits(0);
+        for (int c = 0; c < f.channels; ++c) storeChannel(texel, c, bits / 8, encodeUnorm(v[c], bits, profile.unorm));
       }
       return;
     case ChannelEncoding::Half:
@@ -174,7 +180,8 @@ glm::vec4 decodeTexel(const Format& f, const uint8_t* texel) {
         for (int c = 0; c < 4; ++c)
           out[c] = decodeUnorm((w >> kRgb10a2Shift[c]) & ((1u << kRgb10a2Bits[c]) - 1), kRgb10a2Bits[c]);
       } else {
-        for (int c = 0; c < f.channels; ++c) out[c] = decodeUnorm(texel[c], 8);
+        const int bits = f.unormBits(0);
+        for (int c = 0; c < f.channels; ++c) out[c] = decodeUnorm(loadChannel(texel, c, bits / 8), bits);
       }
       break;
     case ChannelEncoding::Half:

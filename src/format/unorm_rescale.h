@@ -11,7 +11,7 @@
 namespace oitref::detail {
 
 // The integer width llvmpipe blends a UNORM format in: its widest channel rounded up to 8 or 16.
-inline int unormBlendWidth(const Format& f) { return f.id == FormatId::RGB10A2 ? 16 : 8; }
+inline int unormBlendWidth(const Format& f) { return f.id == FormatId::RGB10A2 || f.unormBits(0) == 16 ? 16 : 8; }
 
 // n-bit code -> w bits by replicating its bits (n < w).
 inline uint32_t widenUnormBits(uint32_t v, int n, int w) {

@@ -7,6 +7,9 @@ std::optional<GlFormat> glFormatOf(const Format& f) {
     case FormatId::R8: return GlFormat{GL_R8, GL_RED, GL_UNSIGNED_BYTE};
     case FormatId::RG8: return GlFormat{GL_RG8, GL_RG, GL_UNSIGNED_BYTE};
     case FormatId::RGBA8: return GlFormat{GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
+    case FormatId::R16: return GlFormat{GL_R16, GL_RED, GL_UNSIGNED_SHORT};
+    case FormatId::RG16: return GlFormat{GL_RG16, GL_RG, GL_UNSIGNED_SHORT};
+    case FormatId::RGBA16: return GlFormat{GL_RGBA16, GL_RGBA, GL_UNSIGNED_SHORT};
     case FormatId::RGB10A2: return GlFormat{GL_RGB10_A2, GL_RGBA, GL_UNSIGNED_INT_2_10_10_10_REV};
     case FormatId::R16F: return GlFormat{GL_R16F, GL_RED, GL_HALF_FLOAT};
     case FormatId::RG16F: return GlFormat{GL_RG16F, GL_RG, GL_HALF_FLOAT};

@@ -79,12 +79,13 @@ void writeImage(const std::string& path, const Image& image) {
   const ChannelEncoding enc = f.encoding();
   const bool rawBytes = (enc == ChannelEncoding::Unorm && !f.isPacked()) || enc == ChannelEncoding::Half ||
                         enc == ChannelEncoding::Float32;
-  const OIIO::TypeDesc type = enc == ChannelEncoding::Unorm && !f.isPacked() ? OIIO::TypeDesc::UINT8
+  const OIIO::TypeDesc type = enc == ChannelEncoding::Unorm && !f.isPacked()
+                                  ? (f.unormBits(0) == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8)
                               : enc == ChannelEncoding::Half                  ? OIIO::TypeDesc::HALF
                                                                               : OIIO::TypeDesc::FLOAT;
   const std::string ext = lowerExtension(path);
   const bool pfm = ext == ".pfm";
-  if (type != OIIO::TypeDesc::UINT8 && ext != ".exr" && !pfm)
+  if (type != OIIO::TypeDesc::UINT8 && !(type == OIIO::TypeDesc::UINT16 && ext == ".png") && ext != ".exr" && !pfm)
     throw std::runtime_error(path + ": format " + f.name() + " holds values beyond 8 bits; write it as .exr or .pfm");
   if (pfm && (enc == ChannelEncoding::Half || f.isUnorm()))
     throw std::runtime_error(path + ": PFM holds fp32 values; write " + f.name() + " as .exr or .png");
