@@ -25,3 +25,18 @@ TEST_CASE("det math: exp and log agree with libm to a few double ulps", "[detmat
   CHECK(methods::detLog(0.0) == -INFINITY);
   CHECK(std::isnan(methods::detLog(-1.0)));
 }
+
+TEST_CASE("det math: sin and cos agree with libm to a few double ulps", "[detmath]") {
+  test::BitStream rng(7);
+  double worst = 0;
+  for (int i = 0; i < 400000; ++i) {
+    const double x = double(rng.uniform(-8.0f, 8.0f)) + double(rng.uniform(-1, 1)) * 1e-7;
+    const methods::SinCos sc = methods::detSinCos(x);
+    worst = std::max({worst, std::abs(sc.sin - std::sin(x)), std::abs(sc.cos - std::cos(x))});
+  }
+  INFO("worst absolute error " << worst);
+  CHECK(worst < 4e-16);
+  CHECK(methods::detSinCos(0.0).sin == 0.0);
+  CHECK(methods::detSinCos(0.0).cos == 1.0);
+  CHECK(std::isnan(methods::detSinCos(INFINITY).sin));
+}

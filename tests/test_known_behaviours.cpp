@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "methods/methods.h"
+#include "methods/moment_math.h"
 #include "oitref/method.h"
 
 using namespace oitref;
@@ -111,7 +112,7 @@ TEST_CASE("known: MBOIT's guards — α = 1, one layer without bias, nearly clea
   // One layer and β = 0: the Hankel matrix has rank one; the reconstruction falls back to the
   // fragment's own layer instead of dividing by zero.
   const float oneLayer[4] = {0.3f, 0.09f, 0.027f, 0.0081f};  // z = 0.3 exactly
-  const float a = methods::mboitAbsorbance(oneLayer, 0.3f, 0.0f, 0.25f);
+  const float a = methods::powerMomentAbsorbance(4, oneLayer, 0.3f, 0.0f, methods::powerBiasVector(4, false), 0.25f);
   CHECK(std::isfinite(a));
   CHECK(a == 0.25f);
   // α = 1 layers (b0 would be infinite) and α ≈ 0 layers (b0 below the threshold): finite output

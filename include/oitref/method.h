@@ -36,7 +36,7 @@ struct AttachmentDecl {
 
 struct MethodOption {
   std::string key, defaultValue, meaning;
-  std::vector<std::string> choices;  // empty: free-form (a number)
+  std::vector<std::string> choices;  // empty: free-form (a number, or "auto" where the meaning says so)
 };
 
 struct MethodInfo {

@@ -1,5 +1,6 @@
 #include "glcheck/gl_methods.h"
 
+#include <stdexcept>
 #include <map>
 
 #include "methods/det_math.h"
@@ -144,13 +145,17 @@ void main() {
   return "opaque";
 }
 
-// mboit.cpp's depth warp into [−1, 1] and mboitAbsorbance, as GLSL. ln and exp are the
+// mboit.cpp's depth warp into [−1, 1] and its 4-power-moment absorbance, as GLSL. ln and exp are the
 // driver's fp32 log/exp (mboit.cpp uses det_math.h's in double): the one place the GL version
 // cannot say exactly what the C++ says.
 std::string mboitFunctions(const MethodOptions& o, const Camera& camera) {
+  if (o.text("moments") != "power4" || o.text("storage") != "float")
+    throw std::invalid_argument("glcheck runs mboit with moments=power4 storage=float only (got moments=" +
+                                o.text("moments") + " storage=" + o.text("storage") + ")");
   const bool logWarp = o.text("warp") == "log";
+  const float bias = o.text("bias") == "auto" ? 5e-7f : float(o.number("bias"));  // power4's published β
   const float logRange = float(methods::detLog(double(camera.farPlane) / double(camera.nearPlane)));
-  return "const float BIAS = " + glslFloat(float(o.number("bias"))) + ", OVERESTIMATION = " +
+  return "const float BIAS = " + glslFloat(bias) + ", OVERESTIMATION = " +
          glslFloat(float(o.number("overestimation"))) + ", NEAR = " + glslFloat(camera.nearPlane) +
          ", LOG_RANGE = " + glslFloat(logRange) + ", ALPHA_MAX = " + glslFloat(1.0f - 0x1p-20f) + ";\n" +
          (logWarp ? "float warp() { return 2.0 * log(viewDepth() / NEAR) / LOG_RANGE - 1.0; }\n"

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace oitref::methods {
@@ -36,6 +37,33 @@ inline double detLog(double x) {
   for (int n = 33; n >= 1; n -= 2) series = 1.0 / n + s2 * series;
   constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
   return (2.0 * s * series + e * kLn2Lo) + e * kLn2Hi;
+}
+
+// cos x and sin x for |x| ≤ 2^20: x = k·π/2 + r with |r| ≤ π/4 (π/2 in two parts, so r is
+// accurate to a few ulps for the phases MBOIT uses, |x| ≤ 2π), Taylor polynomials of r to
+// degree 22 / 21, then the quadrant k mod 4 picks and signs them.
+struct SinCos {
+  double sin, cos;
+};
+inline SinCos detSinCos(double x) {
+  if (!std::isfinite(x) || std::fabs(x) > 0x1p20) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {nan, nan};
+  }
+  constexpr double kPiOver2Hi = 1.57079632673412561417, kPiOver2Lo = 6.07710050650619224932e-11;
+  const double k = std::nearbyint(x * 0.63661977236758134308);
+  const double r = (x - k * kPiOver2Hi) - k * kPiOver2Lo, r2 = r * r;
+  double s = 0.0, c = 0.0;
+  for (int n = 21; n >= 3; n -= 2) s = (1.0 - s) * r2 / (double(n) * (n - 1));  // r − r³/3! + …
+  s = r * (1.0 - s);
+  for (int n = 22; n >= 2; n -= 2) c = (1.0 - c) * r2 / (double(n) * (n - 1));
+  c = 1.0 - c;
+  switch ((int64_t(k) % 4 + 4) % 4) {
+    case 0: return {s, c};
+    case 1: return {c, -s};
+    case 2: return {-s, -c};
+    default: return {-c, s};
+  }
 }
 
 }  // namespace oitref::methods

@@ -1,20 +1,26 @@
-// Moment-based OIT with 4 power moments (Münstermann, Krumpen, Klein, Peters 2018), in the shape
-// of Rožek's thesis Algorithm 6 (eq. 2.8–2.11):
-//   pass 1, additive:  b0 += A,  (b1..b4) += A·(z, z², z³, z⁴),  A = −ln(1 − α)
-//   pass 2:            w = T(z) = exp(−b0 · absorbance(b/b0, z)), accumulated as WBOIT does:
-//                      accum += (c·α·w, α·w), reveal *= (1 − α)
-//   composite:         (accum.rgb / clamp(accum.a, 1e-4, 5e4), reveal) over the background
-// absorbance (moment reconstruction): b ← (1 − β)·b + β·(0, 0.375, 0, 0.375); solve the Hankel
-// system [1 b1 b2; b1 b2 b3; b2 b3 b4]·c = (1, z, z²) by Cholesky; the roots z1, z2 of
-// c0 + c1·x + c2·x² and z itself support the reconstructed depth distribution; the quadratic p
-// through (z, overestimation), (z1, [z1 < z]), (z2, [z2 < z]) gives absorbance = p0 + p1·b1 + p2·b2.
+// Moment-based OIT (Münstermann, Krumpen, Klein, Peters 2018), in the shape of Rožek's thesis
+// Algorithm 6 (eq. 2.8–2.11), with the paper's moment sets and 16-bit storage:
+//   pass 1:     b0 += A and b += A·moments(z),  A = −ln(1 − α); moments(z) = (z, z², …, z^N) for
+//               N = 4, 6, 8 power moments, or (e^{iφ}, …, e^{ikφ}) for k = 2, 3, 4
+//               trigonometric moments (moment_math.h). storage=float: fp32 targets blended
+//               ONE, ONE. storage=unorm16: the normalised moments quantised into RGBA16/RG16
+//               UNORM, updated per fragment in raster order (read, un-normalise, add,
+//               re-normalise, write), as the paper does with rasterizer-ordered views.
+//   pass 2:     w = T(z) = exp(−b0 · absorbance(b/b0, z)), accumulated as WBOIT does:
+//               accum += (c·α·w, α·w), reveal *= (1 − α)
+//   composite:  (accum.rgb / clamp(accum.a, 1e-4, 5e4), reveal) over the background
+// absorbance: the moments biased towards the published vector with the published β (option
+// bias=auto), then the Hankel (power) or Toeplitz (trigonometric) system and its polynomial's
+// roots give the reconstructed depth distribution, weighted 1 in front of z, `overestimation`
+// at z, 0 behind (moment_math.cpp).
 // Depth z in [−1, 1]: warp=linear uses 2·d − 1 (d the window depth); warp=log uses
-// 2·ln(v/near)/ln(far/near) − 1 (v the view depth), so the bias vector fits both.
+// 2·ln(v/near)/ln(far/near) − 1 (v the view depth), so the bias vectors fit both.
 // Guards: α is clamped to 1 − 2^-20 (α = 1 would make A infinite); fragments with A below
 // 1e-7 add no moments; in pass 2 a pixel with b0 < 0.00100050033 (its layers are all nearly
-// clear) uses w = 1; a Hankel matrix that is not positive definite (one layer and β = 0) or
-// non-finite roots fall back to absorbance = overestimation (the fragment's own layer).
-// ln and exp are det_math.h's, so the weights are the same bits on every machine.
+// clear) uses w = 1; moments that cannot be used fall back to absorbance = overestimation (the
+// fragment's own layer), counted in the fact "moment reconstructions that fell back".
+// Power moments clamp T to [0, 1] (saturate), trigonometric ones do not, as in the paper's code.
+// ln, exp, sin and cos are det_math.h's, so the weights are the same bits on every machine.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -22,63 +28,29 @@
 #include "methods/det_math.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
+#include "methods/moment_math.h"
 
 namespace oitref::methods {
-
-// The moment reconstruction, in fp32 as a shader would (exposed for the tests).
-float mboitAbsorbance(const float b[4], float z, float bias, float overestimation, bool* fellBack) {
-  if (fellBack) *fellBack = false;
-  auto fallBack = [&] {
-    if (fellBack) *fellBack = true;
-    return overestimation;
-  };
-  const float biasVector[4] = {0.0f, 0.375f, 0.0f, 0.375f};
-  float m[4];
-  for (int i = 0; i < 4; ++i) m[i] = (1.0f - bias) * b[i] + bias * biasVector[i];
-  // Cholesky of [1 m0 m1; m0 m1 m2; m1 m2 m3] = L·D·Lᵀ.
-  const float d11 = m[1] - m[0] * m[0];
-  const float l21d11 = m[2] - m[0] * m[1];
-  if (!(d11 > 0.0f)) return fallBack();
-  const float l21 = l21d11 / d11;
-  const float d22 = (m[3] - m[1] * m[1]) - l21d11 * l21;
-  if (!(d22 > 0.0f)) return fallBack();
-  // Solve L·D·Lᵀ·c = (1, z, z²).
-  float c0 = 1.0f, c1 = z - m[0], c2 = z * z - m[1] - l21 * c1;
-  c1 = c1 / d11;
-  c2 = c2 / d22;
-  c1 = c1 - l21 * c2;
-  c0 = c0 - (c1 * m[0] + c2 * m[1]);
-  // Roots of c0 + c1·x + c2·x².
-  const float p = c1 / c2, q = c0 / c2;
-  const float disc = p * p * 0.25f - q;
-  const float r = std::sqrt(disc);
-  const float z1 = -p * 0.5f - r, z2 = -p * 0.5f + r;
-  if (!std::isfinite(z1) || !std::isfinite(z2)) return fallBack();
-  // Newton form of the quadratic through (z, f0), (z1, f1), (z2, f2).
-  const float f0 = overestimation, f1 = z1 < z ? 1.0f : 0.0f, f2 = z2 < z ? 1.0f : 0.0f;
-  const float f01 = (f1 - f0) / (z1 - z);
-  const float f12 = (f2 - f1) / (z2 - z1);
-  const float f012 = (f12 - f01) / (z2 - z);
-  // p(x) = f0 + f01·(x − z) + f012·(x − z)(x − z1) = a0 + a1·x + a2·x².
-  const float a2 = f012;
-  const float a1 = f01 - f012 * (z + z1);
-  const float a0 = f0 - f01 * z + f012 * z * z1;
-  const float absorbance = a0 + a1 * m[0] + a2 * m[1];
-  return std::isfinite(absorbance) ? absorbance : fallBack();
-}
-
 namespace {
+
+constexpr float kWrappingZoneAngle = 0.31415926535897932f;  // 0.1π, the paper code's default
 
 class Mboit final : public Method {
  public:
   explicit Mboit(const MethodOptions& o)
-      : bias_(float(o.number("bias"))), overestimation_(float(o.number("overestimation"))),
-        logWarp_(o.text("warp") == "log"), accumFormat_(o.text("accum")) {}
+      : set_(MomentSet::parse(o.text("moments"))), quantised_(o.text("storage") == "unorm16"),
+        bias_(o.text("bias") == "auto" ? set_.defaultBias(quantised_) : float(o.number("bias"))),
+        overestimation_(float(o.number("overestimation"))), logWarp_(o.text("warp") == "log"),
+        accumFormat_(o.text("accum")) {}
   const MethodInfo& info() const override { return mboitInfo(); }
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("b0", "r32f", "C_Ms: Σ −ln(1 − α), blended ONE, ONE"));
-    a.push_back(colorAttachment("moments", "rgba32f", "C_Mq: Σ −ln(1 − α)·(z, z², z³, z⁴), blended ONE, ONE"));
+    const std::string blend = quantised_ ? "normalised and quantised, read-modify-write in raster order"
+                                         : "blended ONE, ONE";
+    const std::string four = quantised_ ? "rgba16" : "rgba32f", two = quantised_ ? "rg16" : "rg32f";
+    a.push_back(colorAttachment("b0", "r32f", "C_Ms: Σ −ln(1 − α), " + std::string(quantised_ ? "read-modify-write" : "blended ONE, ONE")));
+    a.push_back(colorAttachment("moments", four, momentRange(0, 4) + ", " + blend));
+    if (set_.reals() > 4) a.push_back(colorAttachment("moments_more", set_.reals() == 6 ? two : four, momentRange(4, set_.reals()) + ", " + blend));
     a.push_back(colorAttachment("accum", accumFormat_, "Σ(c·α·w, α·w), blended ONE, ONE"));
     a.push_back(colorAttachment("reveal", "r32f", "Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
     return a;
@@ -88,14 +60,16 @@ class Mboit final : public Method {
     FrameTargets t(attachments(), context.width, context.height);
     PassRunner run(context, result);
     run.opaquePass(t);
+    const Profile& profile = context.profile;
     Image& b0Image = t.color("b0");
-    Image& moments = t.color("moments");
+    Image* momentImages[2] = {&t.color("moments"), set_.reals() > 4 ? &t.color("moments_more") : nullptr};
     Image& accum = t.color("accum");
     Image& reveal = t.color("reveal");
-    b0Image.clear(glm::vec4(0.0f), context.profile);
-    moments.clear(glm::vec4(0.0f), context.profile);
-    accum.clear(glm::vec4(0.0f), context.profile);
-    reveal.clear(glm::vec4(1.0f), context.profile);
+    b0Image.clear(glm::vec4(0.0f), profile);
+    for (Image* m : momentImages)
+      if (m) m->clear(glm::vec4(0.0f), profile);
+    accum.clear(glm::vec4(0.0f), profile);
+    reveal.clear(glm::vec4(1.0f), profile);
     const Camera& cam = context.scene.camera;
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
     const bool logWarp = logWarp_;
@@ -106,38 +80,78 @@ class Mboit final : public Method {
     auto absorbanceOf = [](float alpha) {
       return float(-detLog(1.0 - double(std::min(alpha, 1.0f - 0x1p-20f))));
     };
+    const MomentSet set = set_;
+    const int reals = set.reals();
+    const WrappingZone zone = WrappingZone::fromAngle(set.trigonometric ? kWrappingZoneAngle : 0.0f);
+    auto loadMoments = [&](int x, int y, float* out) {
+      const glm::vec4 lo = momentImages[0]->fetch(x, y);
+      const glm::vec4 hi = momentImages[1] ? momentImages[1]->fetch(x, y) : glm::vec4(0.0f);
+      for (int k = 0; k < reals; ++k) out[k] = k < 4 ? lo[k] : hi[k - 4];
+    };
 
-    const PipelineState additive = transparentState(context.profile, additiveBlend());
     Framebuffer momentFb;
-    momentFb.color[0] = &b0Image;
-    momentFb.color[1] = &moments;
     momentFb.depth = &t.depth("depth");
-    run.transparentPass("moments", momentFb, additive, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
-      const float a = absorbanceOf(c.a);
-      if (a < 1e-7f) return;  // nearly clear: adds nothing measurable
-      const float z = warp(in), z2 = z * z;
-      out.write(0, glm::vec4(a));
-      out.write(1, glm::vec4(z, z2, z2 * z, z2 * z2) * a);
-    });
+    if (!quantised_) {
+      momentFb.color[0] = &b0Image;
+      momentFb.color[1] = momentImages[0];
+      momentFb.color[2] = momentImages[1];
+      run.transparentPass("moments", momentFb, transparentState(profile, additiveBlend()),
+                          [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+                            const float a = absorbanceOf(c.a);
+                            if (a < 1e-7f) return;  // nearly clear: adds nothing measurable
+                            float m[8] = {};
+                            momentsOf(set, warp(in), zone, m);
+                            out.write(0, glm::vec4(a));
+                            out.write(1, glm::vec4(m[0], m[1], m[2], m[3]) * a);
+                            if (reals > 4) out.write(2, glm::vec4(m[4], m[5], m[6], m[7]) * a);
+                          });
+    } else {
+      run.transparentPass("moments", momentFb, transparentState(profile, BlendState{}),
+                          [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput&) {
+                            const float a = absorbanceOf(c.a);
+                            if (a < 1e-7f) return;
+                            float q[8] = {}, m[8] = {}, mq[8] = {};
+                            float b0 = b0Image.fetch(in.x, in.y).r;
+                            loadMoments(in.x, in.y, q);
+                            offsetQuantised(set, q, -1.0f);
+                            for (int k = 0; k < reals; ++k) q[k] *= b0;
+                            momentsOf(set, warp(in), zone, m);
+                            quantiseMoments(set, m, mq);
+                            b0 += a;
+                            for (int k = 0; k < reals; ++k) q[k] = (q[k] + mq[k] * a) / b0;
+                            offsetQuantised(set, q, 1.0f);
+                            b0Image.store(in.x, in.y, glm::vec4(b0), profile);
+                            momentImages[0]->store(in.x, in.y, glm::vec4(q[0], q[1], q[2], q[3]), profile);
+                            if (momentImages[1]) momentImages[1]->store(in.x, in.y, glm::vec4(q[4], q[5], q[6], q[7]), profile);
+                          });
+    }
 
-    PipelineState st = additive;
+    PipelineState st = transparentState(profile, additiveBlend());
     st.blend[1] = revealageBlend();
     Framebuffer fb;
     fb.color[0] = &accum;
     fb.color[1] = &reveal;
     fb.depth = &t.depth("depth");
     const float bias = bias_, overestimation = overestimation_;
+    const bool quantised = quantised_;
+    const float* biasVector = set.trigonometric ? nullptr : powerBiasVector(set.count, quantised);
     std::atomic<uint64_t> fallbacks{0};  // a sum: the same for any order of the fragments
     run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
       const float b0 = b0Image.fetch(in.x, in.y).r;
       float w = 1.0f;
       if (b0 >= 0.00100050033f) {
-        const glm::vec4 m = moments.fetch(in.x, in.y) / b0;
-        const float b[4] = {m.x, m.y, m.z, m.w};
+        float stored[8] = {}, b[8] = {};
+        loadMoments(in.x, in.y, stored);
+        if (quantised) dequantiseMoments(set, stored, b);
+        else for (int k = 0; k < reals; ++k) b[k] = stored[k] / b0;
         bool fellBack = false;
-        const float absorbance = mboitAbsorbance(b, warp(in), bias, overestimation, &fellBack);
+        const float z = warp(in);
+        const float absorbance = set.trigonometric
+                                     ? trigMomentAbsorbance(set.count, b, z, bias, overestimation, zone, &fellBack)
+                                     : powerMomentAbsorbance(set.count, b, z, bias, biasVector, overestimation, &fellBack);
         if (fellBack) fallbacks.fetch_add(1, std::memory_order_relaxed);
-        w = std::clamp(float(detExp(-double(b0) * double(absorbance))), 0.0f, 1.0f);
+        w = float(detExp(-double(b0) * double(absorbance)));
+        if (!set.trigonometric) w = std::clamp(w, 0.0f, 1.0f);
       }
       out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
       out.write(1, glm::vec4(c.a));
@@ -150,6 +164,14 @@ class Mboit final : public Method {
   }
 
  private:
+  std::string momentRange(int from, int to) const {
+    if (set_.trigonometric)
+      return "Σ A·(cos kφ, sin kφ), k = " + std::to_string(from / 2 + 1) + "…" + std::to_string(to / 2);
+    return "Σ A·z^k, k = " + std::to_string(from + 1) + "…" + std::to_string(to);
+  }
+
+  MomentSet set_;
+  bool quantised_;
   float bias_, overestimation_;
   bool logWarp_;
   std::string accumFormat_;
@@ -160,8 +182,11 @@ class Mboit final : public Method {
 const MethodInfo& mboitInfo() {
   static const MethodInfo info{
       "mboit",
-      "moment-based OIT, 4 power moments (Münstermann et al. 2018; thesis Algorithms 5–6)",
-      {{"bias", "5e-7", "moment bias β towards (0, 0.375, 0, 0.375); the thesis used 0", {}},
+      "moment-based OIT: 4/6/8 power or 2/3/4 trigonometric moments, fp32 or 16-bit (Münstermann et al. 2018; thesis Algorithms 5–6)",
+      {{"moments", "power4", "moment set: power moments of z, or trigonometric moments of its phase",
+        {"power4", "power6", "power8", "trig2", "trig3", "trig4"}},
+       {"storage", "float", "moments in fp32 targets blended additively, or normalised and quantised into UNORM16", {"float", "unorm16"}},
+       {"bias", "auto", "moment bias β (auto: the published value for the moment set and storage; the thesis used 0)", {}},
        {"overestimation", "0.25", "weight of the fragment's own depth in the absorbance", {}},
        {"warp", "linear", "depth into [−1, 1]: linear 2d − 1 (window depth) or log of the view depth", {"linear", "log"}},
        {"accum", "rgba32f", "accumulation format (thesis: RGBA32F)", {"rgba16f", "rgba32f"}}}};

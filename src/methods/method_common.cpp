@@ -191,7 +191,7 @@ PipelineState transparentState(const Profile& profile, const BlendState& blend) 
   PipelineState st;
   st.profile = profile;
   st.depth = transparentDepth();
-  st.blend[0] = st.blend[1] = blend;
+  st.blend.fill(blend);  // every target: a pass that binds a third one blends it too
   return st;
 }
 

@@ -22,7 +22,9 @@ const std::vector<Entry>& registry() {
       {methods::opaqueInfo, methods::makeOpaque}, {methods::overInfo, methods::makeOver},
       {methods::sortedInfo, methods::makeSorted},
       {methods::wsumInfo, methods::makeWsum},     {methods::wavgInfo, methods::makeWavg},
+      {methods::meshkin3Info, methods::makeMeshkin3},
       {methods::wboitInfo, methods::makeWboit},   {methods::mboitInfo, methods::makeMboit},
+      {methods::mtInfo, methods::makeMt},
       {methods::peelInfo, methods::makePeel},     {methods::dualpeelInfo, methods::makeDualpeel},
       {methods::screendoorInfo, methods::makeScreendoor},
       {methods::hybridInfo, methods::makeHybrid},
@@ -65,7 +67,7 @@ MethodOptions::MethodOptions(const MethodInfo& info, const std::map<std::string,
     values_[key] = value;
   }
   for (const MethodOption& o : info.options)
-    if (o.choices.empty()) number(o.key);  // free-form options are numbers: check them now
+    if (o.choices.empty() && values_[o.key] != "auto") number(o.key);  // free-form options are numbers (or "auto"): check now
 }
 
 const std::string& MethodOptions::text(const std::string& key) const { return values_.at(key); }

@@ -22,11 +22,10 @@ const MethodInfo& wboitInfo();
 std::unique_ptr<Method> makeWboit(const MethodOptions& options);
 const MethodInfo& mboitInfo();
 std::unique_ptr<Method> makeMboit(const MethodOptions& options);
-// The 4-moment reconstruction (mboit.cpp), for the tests.
-// `fellBack`, when given, is set when the moments could not be used (the Hankel matrix is not
-// positive definite, or the roots or the result are not finite) and the fragment's own layer
-// (`overestimation`) was returned instead.
-float mboitAbsorbance(const float b[4], float z, float bias, float overestimation, bool* fellBack = nullptr);
+const MethodInfo& mtInfo();
+std::unique_ptr<Method> makeMt(const MethodOptions& options);
+const MethodInfo& meshkin3Info();
+std::unique_ptr<Method> makeMeshkin3(const MethodOptions& options);
 const MethodInfo& mlabInfo();
 std::unique_ptr<Method> makeMlab(const MethodOptions& options);
 const MethodInfo& kbufferInfo();

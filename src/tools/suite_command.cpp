@@ -1,4 +1,5 @@
 // `oitref suite` (every scene × method, with tables) and `oitref reference` (the golden set).
+#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -60,13 +61,27 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
       if (o->write) std::filesystem::create_directories(o->dir);
       const auto manifest = o->write ? std::vector<ReferenceEntry>{} : readManifest(o->dir + "/manifest.txt");
       const auto entries = renderReferences(o->scenesDir, renderer, o->dir, o->write);
-      int bad = 0;
-      for (size_t i = 0; i < manifest.size(); ++i) {
-        const bool ok = i < entries.size() && entries[i].scene == manifest[i].scene && entries[i].method == manifest[i].method &&
-                        entries[i].hash == manifest[i].hash;
-        if (!ok) std::printf("differs: %s %s\n", manifest[i].scene.c_str(), manifest[i].method.c_str()), ++bad;
+      // Matched by (scene, method), so a new method or scene shows up as new images while the
+      // existing ones are still compared hash for hash.
+      int bad = 0, fresh = 0, same = 0;
+      std::map<std::pair<std::string, std::string>, std::string> expected;
+      for (const auto& m : manifest) expected[{m.scene, m.method}] = m.hash;
+      for (const auto& e : entries) {
+        const auto it = expected.find({e.scene, e.method});
+        if (o->write) continue;
+        if (it == expected.end()) {
+          std::printf("new (not in the manifest): %s %s\n", e.scene.c_str(), e.method.c_str()), ++fresh;
+          continue;
+        }
+        if (it->second != e.hash) std::printf("differs: %s %s\n", e.scene.c_str(), e.method.c_str()), ++bad;
+        else ++same;
+        expected.erase(it);
       }
-      if (!o->write && manifest.size() != entries.size()) std::printf("the manifest lists %zu images, the scenes make %zu\n", manifest.size(), entries.size()), ++bad;
+      for (const auto& [key, hash] : expected)
+        if (!o->write) std::printf("missing (in the manifest, not rendered): %s %s\n", key.first.c_str(), key.second.c_str()), ++bad;
+      if (!o->write && (bad || fresh))
+        std::printf("%d differ or are missing, %d are new, %d identical\n", bad, fresh, same);
+      bad += fresh;
       std::printf("%s %zu reference images\n", o->write ? "wrote" : (bad ? "FAILED:" : "identical:"), entries.size());
       return bad ? 1 : 0;
     });

@@ -1,0 +1,452 @@
+// Moment generation, 16-bit quantisation and the reconstruction of the absorbance from power and
+// trigonometric moments (Münstermann, Krumpen, Klein, Peters, "Moment-Based Order-Independent
+// Transparency", 2018). The linear algebra runs in fp32 in the order a shader runs it: that is
+// where MBOIT's precision is decided (Cholesky pivots of nearly singular Hankel matrices). The
+// polynomial roots are found by deterministic iterations in double instead of the paper code's
+// fp32 closed forms (Blinn's cubic, Neumark's quartic), which need atan2/cos; the roots differ
+// from a GPU's by rounding only.
+#include "methods/moment_math.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "methods/det_math.h"
+
+namespace oitref::methods {
+
+MomentSet MomentSet::parse(const std::string& name) {
+  for (const MomentSet s : {MomentSet{false, 4}, MomentSet{false, 6}, MomentSet{false, 8}, MomentSet{true, 2},
+                            MomentSet{true, 3}, MomentSet{true, 4}})
+    if (s.name() == name) return s;
+  throw std::invalid_argument("moments '" + name + "' is not one of power4, power6, power8, trig2, trig3, trig4");
+}
+
+std::string MomentSet::name() const { return (trigonometric ? "trig" : "power") + std::to_string(count); }
+
+float MomentSet::defaultBias(bool quantised) const {
+  if (trigonometric) return count == 2 ? (quantised ? 4e-4f : 4e-7f) : count == 3 ? (quantised ? 6.5e-4f : 8e-7f)
+                                                                                  : (quantised ? 8.5e-4f : 1.5e-6f);
+  return count == 4 ? (quantised ? 6e-5f : 5e-7f) : count == 6 ? (quantised ? 6e-4f : 5e-6f) : (quantised ? 2.5e-3f : 5e-5f);
+}
+
+float circleToParameter(float x, float y) {
+  float result = std::fabs(y) - std::fabs(x);
+  result = x < 0.0f ? 2.0f - result : result;
+  return y < 0.0f ? 6.0f - result : result;
+}
+
+WrappingZone WrappingZone::fromAngle(float angle) {
+  constexpr double kPi = 3.14159265358979323846;
+  WrappingZone z;
+  z.angle = angle;
+  z.phaseScale = float(kPi - 0.5 * double(angle));
+  if (angle > 0.0f) {
+    const SinCos begin = detSinCos(2.0 * kPi - double(angle));
+    const float zoneBegin = circleToParameter(float(begin.cos), float(begin.sin)), zoneEnd = 7.0f;
+    z.rampScale = 1.0f / (zoneEnd - zoneBegin);
+    z.rampOffset = 1.0f - zoneEnd * z.rampScale;
+  }
+  return z;
+}
+
+namespace {
+
+// fp32 complex arithmetic written out, so each operation rounds as the shader's vec2 code does.
+struct Cf {
+  float x = 0.0f, y = 0.0f;
+};
+Cf operator-(Cf a, Cf b) { return {a.x - b.x, a.y - b.y}; }
+Cf operator*(Cf a, Cf b) { return {a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x}; }
+Cf operator*(Cf a, float s) { return {a.x * s, a.y * s}; }
+Cf conj(Cf a) { return {a.x, -a.y}; }
+Cf divide(Cf a, Cf b) {  // a·conj(b) / |b|²
+  const Cf n = a * conj(b);
+  const float d = b.x * b.x + b.y * b.y;
+  return {n.x / d, n.y / d};
+}
+
+Cf unitCirclePoint(float z, const WrappingZone& zone) {
+  const float phase = z * zone.phaseScale + zone.phaseScale;
+  const SinCos sc = detSinCos(double(phase));
+  return {float(sc.cos), float(sc.sin)};
+}
+
+// w, w², w³, w⁴ formed as the shaders do: w² = w·w, w³ = w·w², w⁴ = w²·w².
+void circlePowers(Cf w, int count, Cf* out) {
+  out[0] = w;
+  if (count > 1) out[1] = w * w;
+  if (count > 2) out[2] = w * out[1];
+  if (count > 3) out[3] = out[1] * out[1];
+}
+
+// Quantisation tables: odd moments (b1, b3, …) and even moments (b2, b4, …) separately. For 4
+// and 6 moments the code multiplies a row vector by the matrix (q_i = Σ_j b_j·M[j][i]), for 8 the
+// matrix by a column vector (q_i = Σ_j M[i][j]·b_j); the tests check that each pair inverts and
+// maps point masses anywhere in [−1, 1] into [0, 1].
+constexpr double kSqrt3 = 1.73205080756887729353;
+constexpr float kQ4Odd[2][2] = {{1.5f, float(kSqrt3 * 0.5)}, {-2.0f, float(-kSqrt3 * 2.0 / 9.0)}};
+constexpr float kQ4Even[2][2] = {{4.0f, 0.5f}, {-4.0f, 0.5f}};
+constexpr float kD4Odd[2][2] = {{float(-1.0 / 3.0), -0.75f}, {float(kSqrt3), float(0.75 * kSqrt3)}};
+constexpr float kD4Even[2][2] = {{0.125f, -0.125f}, {1.0f, 1.0f}};
+constexpr float kQ6Odd[3][3] = {{2.5f, -1.87499864450f, 1.26583039016f},
+                                {-10.0f, 4.20757543111f, -1.47644882902f},
+                                {8.0f, -1.83257678661f, 0.71061660238f}};
+constexpr float kQ6Even[3][3] = {{4.0f, 9.0f, -0.57759806484f}, {-4.0f, -24.0f, 4.61936647543f}, {0.0f, 16.0f, -3.07953906655f}};
+constexpr float kD6Odd[3][3] = {{-0.02877789192f, 0.09995235706f, 0.25893353755f},
+                                {0.47635550422f, 0.84532580931f, 0.90779616657f},
+                                {1.55242808973f, 1.05472570761f, 0.83327335647f}};
+constexpr float kD6Even[3][3] = {{0.00001253044f, -0.24998746956f, -0.37498825271f},
+                                 {0.16668494186f, 0.16668494186f, 0.21876713299f},
+                                 {0.86602540579f, 0.86602540579f, 0.81189881793f}};
+constexpr float kQ8Odd[4][4] = {{3.48044635732474f, -27.5760737514826f, 55.1267384344761f, -31.5311110403183f},
+                                {1.26797185782836f, -0.928755808743913f, -2.07520453231032f, 1.23598848322588f},
+                                {-2.1671560004294f, 6.17950199592966f, -0.276515571579297f, -4.23583042392097f},
+                                {0.974332879165755f, -0.443426830933027f, -0.360491648368785f, 0.310149466050223f}};
+constexpr float kQ8Even[4][4] = {{0.280504133158527f, -0.757633844606942f, 0.392179589334688f, -0.887531871812237f},
+                                 {-2.01362265883247f, 0.221551373038988f, -1.06107954265125f, 2.83887201588367f},
+                                 {-7.31010494985321f, 13.9855979699139f, -0.114305766176437f, -7.4361899359832f},
+                                 {-15.8954215629556f, 79.6186327084103f, -127.457278992502f, 63.7349456687829f}};
+constexpr float kD8Odd[4][4] = {{-0.00482399708502382f, -0.423201508674231f, 0.0348312382605129f, 1.67179208266592f},
+                                {-0.0233402218644408f, -0.832829097046478f, 0.0193406040499625f, 1.21021509068975f},
+                                {-0.010888537031885f, -0.926393772997063f, -0.11723394414779f, 0.983723301818275f},
+                                {-0.0308713357806732f, -0.937989172670245f, -0.218033377677099f, 0.845991731322996f}};
+constexpr float kD8Even[4][4] = {{-0.976220278891035f, -0.456139260269401f, -0.0504335521016742f, 0.000838800390651085f},
+                                 {-1.04828341778299f, -0.229726640510149f, 0.0259608334616091f, -0.00133632693205861f},
+                                 {-1.03115268628604f, -0.077844420809897f, 0.00443408851014257f, -0.0103744938457406f},
+                                 {-0.996038443434636f, 0.0175438624416783f, -0.0361414253243963f, -0.00317839994022725f}};
+constexpr float kOffset6Even[3] = {0.0f, 0.0f, 0.018888946f};
+constexpr float kOffset8Even[4] = {0.972481993925964f, 1.0f, 0.999179192513328f, 0.991778293073131f};
+
+// y = v·M (rowVector) or M·v, for an n×n matrix given as rows.
+template <int N>
+void multiply(const float (&m)[N][N], const float* v, float* y, bool rowVector) {
+  for (int i = 0; i < N; ++i) {
+    float s = 0.0f;
+    for (int j = 0; j < N; ++j) s += (rowVector ? v[j] * m[j][i] : m[i][j] * v[j]);
+    y[i] = s;
+  }
+}
+
+// b (b1…bN in order) as its odd and even halves and back.
+void split(int count, const float* b, float* odd, float* even) {
+  for (int i = 0; i < count / 2; ++i) odd[i] = b[2 * i], even[i] = b[2 * i + 1];
+}
+void join(int count, const float* odd, const float* even, float* b) {
+  for (int i = 0; i < count / 2; ++i) b[2 * i] = odd[i], b[2 * i + 1] = even[i];
+}
+
+template <int N>
+void mapHalves(int count, const float (&mo)[N][N], const float (&me)[N][N], const float* in, float* out, bool rowVector) {
+  float odd[4], even[4], qo[4], qe[4];
+  split(count, in, odd, even);
+  multiply(mo, odd, qo, rowVector);
+  multiply(me, even, qe, rowVector);
+  join(count, qo, qe, out);
+}
+
+}  // namespace
+
+void momentsOf(const MomentSet& set, float z, const WrappingZone& zone, float* out) {
+  if (set.trigonometric) {
+    Cf w[4];
+    circlePowers(unitCirclePoint(z, zone), set.count, w);
+    for (int k = 0; k < set.count; ++k) out[2 * k] = w[k].x, out[2 * k + 1] = w[k].y;
+    return;
+  }
+  const float z2 = z * z, z4 = z2 * z2, z6 = z4 * z2;
+  const float powers[8] = {z, z2, z2 * z, z4, z4 * z, z6, z6 * z, z6 * z2};
+  for (int k = 0; k < set.count; ++k) out[k] = powers[k];
+}
+
+void quantiseMoments(const MomentSet& set, const float* b, float* q) {
+  if (set.trigonometric) {
+    for (int k = 0; k < set.reals(); ++k) q[k] = b[k] * 0.5f;
+    return;
+  }
+  if (set.count == 4) mapHalves(4, kQ4Odd, kQ4Even, b, q, true);
+  else if (set.count == 6) mapHalves(6, kQ6Odd, kQ6Even, b, q, true);
+  else mapHalves(8, kQ8Odd, kQ8Even, b, q, false);
+}
+
+void offsetQuantised(const MomentSet& set, float* q, float sign) {
+  if (set.trigonometric) {
+    for (int k = 0; k < set.reals(); ++k) q[k] += 0.5f * sign;
+    return;
+  }
+  for (int i = 0; i < set.count / 2; ++i) {
+    q[2 * i] += 0.5f * sign;
+    if (set.count == 6) q[2 * i + 1] += kOffset6Even[i] * sign;
+    if (set.count == 8) q[2 * i + 1] += kOffset8Even[i] * sign;
+  }
+}
+
+void dequantiseMoments(const MomentSet& set, const float* stored, float* b) {
+  if (set.trigonometric) {
+    for (int k = 0; k < set.reals(); ++k) b[k] = stored[k] * 2.0f - 1.0f;
+    return;
+  }
+  float q[8];
+  std::copy(stored, stored + set.count, q);
+  offsetQuantised(set, q, -1.0f);
+  if (set.count == 4) mapHalves(4, kD4Odd, kD4Even, q, b, true);
+  else if (set.count == 6) mapHalves(6, kD6Odd, kD6Even, q, b, true);
+  else mapHalves(8, kD8Odd, kD8Even, q, b, false);
+}
+
+const float* powerBiasVector(int count, bool quantised) {
+  static const float v4[4] = {0, 0.375f, 0, 0.375f}, v4q[4] = {0, 0.628f, 0, 0.628f};
+  static const float v6[6] = {0, 0.48f, 0, 0.451f, 0, 0.45f}, v6q[6] = {0, 0.5566f, 0, 0.489f, 0, 0.47869382f};
+  static const float v8[8] = {0, 0.75f, 0, 0.67666666666666664f, 0, 0.63f, 0, 0.60030303030303034f};
+  static const float v8q[8] = {0, 0.42474916387959866f, 0, 0.22407802675585284f, 0, 0.15369230769230768f, 0, 0.12900440529089119f};
+  if (count == 4) return quantised ? v4q : v4;
+  return count == 6 ? (quantised ? v6q : v6) : (quantised ? v8q : v8);
+}
+
+// Newton's method from above the largest root, which for a real-rooted polynomial decreases
+// monotonically to that root (the polynomial is convex and increasing beyond it); stop when an
+// iterate no longer decreases. Then deflate by synthetic division and repeat; degree 2 by the
+// quadratic formula in its cancellation-free form. NaN roots when the discriminant is negative.
+std::vector<double> realRootsOfRealRooted(const double* c, int n) {
+  std::vector<double> roots;
+  if (!(c[n] != 0.0) || !std::isfinite(c[n])) return roots;
+  double a[5];
+  for (int k = 0; k <= n; ++k) a[k] = c[k] / c[n];
+  for (int d = n; d >= 1; --d) {
+    if (d == 1) {
+      roots.push_back(-a[0]);
+      break;
+    }
+    if (d == 2) {
+      const double h = 0.5 * a[1], disc = h * h - a[0];
+      if (!(disc >= 0.0)) {
+        roots.push_back(NAN), roots.push_back(NAN);
+        break;
+      }
+      const double s = h >= 0.0 ? -h - std::sqrt(disc) : -h + std::sqrt(disc);  // the larger |root|
+      roots.push_back(s);
+      roots.push_back(s != 0.0 ? a[0] / s : 0.0);
+      break;
+    }
+    double bound = 0.0;
+    for (int k = 0; k < d; ++k) bound = std::max(bound, std::fabs(a[k]));
+    double x = 1.0 + bound;
+    for (int it = 0; it < 500; ++it) {
+      double p = 1.0, dp = 0.0;
+      for (int k = d - 1; k >= 0; --k) dp = dp * x + p, p = p * x + a[k];
+      if (!(dp != 0.0)) break;
+      const double next = x - p / dp;
+      if (!(next < x)) break;
+      x = next;
+    }
+    roots.push_back(x);
+    // a(x) = (x − r)·q(x): q's coefficients by synthetic division, highest first.
+    double q[5], carry = 1.0;
+    for (int k = d - 1; k >= 0; --k) {
+      q[k] = carry;
+      carry = a[k] + carry * x;
+    }
+    for (int k = 0; k < d; ++k) a[k] = q[k];
+  }
+  std::sort(roots.begin(), roots.end());
+  return roots;
+}
+
+// Durand–Kerner (Weierstrass) iteration from the customary starting points (0.4 + 0.9i)^k, in
+// place (each update uses the newest others), until no root moves by more than 1e-15 of its
+// size, or 2000 sweeps.
+std::vector<std::complex<double>> complexRoots(const std::complex<double>* c, int n) {
+  using C = std::complex<double>;
+  std::vector<C> z(size_t(n), C(NAN, NAN));
+  if (!(std::abs(c[n]) > 0.0) || !std::isfinite(std::abs(c[n]))) return z;
+  C a[5];
+  for (int k = 0; k <= n; ++k) a[k] = c[k] / c[n];
+  C start(1.0, 0.0);
+  for (int i = 0; i < n; ++i, start *= C(0.4, 0.9)) z[size_t(i)] = start;
+  for (int sweep = 0; sweep < 2000; ++sweep) {
+    double moved = 0.0;
+    for (int i = 0; i < n; ++i) {
+      C p(1.0, 0.0), den(1.0, 0.0);
+      const C x = z[size_t(i)];
+      for (int k = n - 1; k >= 0; --k) p = p * x + a[k];
+      for (int j = 0; j < n; ++j)
+        if (j != i) den *= x - z[size_t(j)];
+      const C step = p / den;
+      z[size_t(i)] = x - step;
+      moved = std::max(moved, std::abs(step) / (1.0 + std::abs(x)));
+    }
+    if (!(moved > 1e-15)) break;
+  }
+  return z;
+}
+
+namespace {
+
+// 4 power moments in closed form, in the order of the paper code's fp32 operations.
+float fourPowerMomentAbsorbance(const float* m, float z, float overestimation, bool& ok) {
+  // Cholesky of [1 m0 m1; m0 m1 m2; m1 m2 m3] = L·D·Lᵀ.
+  const float d11 = m[1] - m[0] * m[0];
+  const float l21d11 = m[2] - m[0] * m[1];
+  if (!(d11 > 0.0f)) return ok = false, overestimation;
+  const float l21 = l21d11 / d11;
+  const float d22 = (m[3] - m[1] * m[1]) - l21d11 * l21;
+  if (!(d22 > 0.0f)) return ok = false, overestimation;
+  // Solve L·D·Lᵀ·c = (1, z, z²).
+  float c0 = 1.0f, c1 = z - m[0], c2 = z * z - m[1] - l21 * c1;
+  c1 = c1 / d11;
+  c2 = c2 / d22;
+  c1 = c1 - l21 * c2;
+  c0 = c0 - (c1 * m[0] + c2 * m[1]);
+  // Roots of c0 + c1·x + c2·x².
+  const float p = c1 / c2, q = c0 / c2;
+  const float disc = p * p * 0.25f - q;
+  const float r = std::sqrt(disc);
+  const float z1 = -p * 0.5f - r, z2 = -p * 0.5f + r;
+  if (!std::isfinite(z1) || !std::isfinite(z2)) return ok = false, overestimation;
+  // Newton form of the quadratic through (z, f0), (z1, f1), (z2, f2).
+  const float f0 = overestimation, f1 = z1 < z ? 1.0f : 0.0f, f2 = z2 < z ? 1.0f : 0.0f;
+  const float f01 = (f1 - f0) / (z1 - z);
+  const float f12 = (f2 - f1) / (z2 - z1);
+  const float f012 = (f12 - f01) / (z2 - z);
+  // p(x) = f0 + f01·(x − z) + f012·(x − z)(x − z1) = a0 + a1·x + a2·x².
+  const float a2 = f012;
+  const float a1 = f01 - f012 * (z + z1);
+  const float a0 = f0 - f01 * z + f012 * z * z1;
+  return a0 + a1 * m[0] + a2 * m[1];
+}
+
+float divideAny(float a, float b) { return a / b; }
+Cf divideAny(Cf a, Cf b) { return divide(a, b); }
+
+// Newton's divided differences through (x_i, f_i), i = 0…n, expanded to monomial coefficients.
+template <typename T>
+void interpolate(const T* x, const float* f, int n, T* poly) {
+  T dd[5];
+  for (int i = 0; i <= n; ++i) dd[i] = T{f[i]};
+  for (int level = 1; level <= n; ++level)
+    for (int i = n; i >= level; --i) dd[i] = divideAny(dd[i] - dd[i - 1], x[i] - x[i - level]);
+  // Horner on the Newton form: poly = dd[n]; poly = poly·(t − x_i) + dd[i].
+  for (int k = 0; k <= n; ++k) poly[k] = T{};
+  poly[0] = dd[n];
+  for (int i = n - 1; i >= 0; --i) {
+    for (int k = n - i; k >= 1; --k) poly[k] = poly[k - 1] - poly[k] * x[i];
+    poly[0] = dd[i] - poly[0] * x[i];
+  }
+}
+
+}  // namespace
+
+float powerMomentAbsorbance(int count, const float* b, float z, float bias, const float* biasVector, float overestimation,
+                            bool* fellBack) {
+  if (fellBack) *fellBack = false;
+  auto fallBack = [&] {
+    if (fellBack) *fellBack = true;
+    return overestimation;
+  };
+  float m[9];
+  m[0] = 1.0f;
+  for (int k = 0; k < count; ++k) m[k + 1] = (1.0f - bias) * b[k] + bias * biasVector[k];
+  if (count == 4) {
+    bool ok = true;
+    const float a = fourPowerMomentAbsorbance(m + 1, z, overestimation, ok);
+    return ok && std::isfinite(a) ? a : fallBack();
+  }
+  const int n = count / 2;
+  // Hankel matrix H_ij = m_{i+j} = L·D·Lᵀ.
+  float L[5][5] = {}, D[5];
+  for (int j = 0; j <= n; ++j) {
+    float d = m[2 * j];
+    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k] * D[k];
+    if (!(d > 0.0f)) return fallBack();
+    D[j] = d;
+    for (int i = j + 1; i <= n; ++i) {
+      float v = m[i + j];
+      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k] * D[k];
+      L[i][j] = v / d;
+    }
+  }
+  // H·c = (1, z, …, z^n): forward, scale, backward substitution.
+  float c[5];
+  c[0] = 1.0f;
+  for (int k = 1; k <= n; ++k) c[k] = c[k - 1] * z;
+  for (int i = 1; i <= n; ++i)
+    for (int k = 0; k < i; ++k) c[i] -= L[i][k] * c[k];
+  for (int i = 0; i <= n; ++i) c[i] /= D[i];
+  for (int i = n - 1; i >= 0; --i)
+    for (int k = i + 1; k <= n; ++k) c[i] -= L[k][i] * c[k];
+  double cd[5];
+  for (int k = 0; k <= n; ++k) cd[k] = c[k];
+  const std::vector<double> roots = realRootsOfRealRooted(cd, n);
+  if (int(roots.size()) != n) return fallBack();
+  float x[5], f[5];
+  x[0] = z, f[0] = overestimation;
+  for (int i = 0; i < n; ++i) {
+    x[i + 1] = float(roots[size_t(i)]);
+    if (!std::isfinite(x[i + 1])) return fallBack();
+    f[i + 1] = x[i + 1] < z ? 1.0f : 0.0f;
+  }
+  float poly[5];
+  interpolate(x, f, n, poly);
+  float absorbance = 0.0f;
+  for (int k = 0; k <= n; ++k) absorbance += poly[k] * m[k];
+  return std::isfinite(absorbance) ? absorbance : fallBack();
+}
+
+float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation, const WrappingZone& zone,
+                           bool* fellBack) {
+  if (fellBack) *fellBack = false;
+  auto fallBack = [&] {
+    if (fellBack) *fellBack = true;
+    return overestimation;
+  };
+  const int n = count;
+  Cf B[5];
+  B[0] = {1.0f, 0.0f};
+  for (int k = 1; k <= n; ++k) B[k] = Cf{b[2 * (k - 1)], b[2 * (k - 1) + 1]} * (1.0f - bias);
+  // Toeplitz T_ij = b_{i−j} (i ≥ j), conj(b_{j−i}) above: T = L·D·Lᴴ.
+  Cf L[5][5] = {};
+  float D[5];
+  for (int j = 0; j <= n; ++j) {
+    float d = B[0].x;
+    for (int k = 0; k < j; ++k) d -= (L[j][k] * conj(L[j][k])).x * D[k];
+    if (!(d > 0.0f)) return fallBack();
+    D[j] = d;
+    const float inv = 1.0f / d;
+    for (int i = j + 1; i <= n; ++i) {
+      Cf v = B[i - j];
+      for (int k = 0; k < j; ++k) v = v - L[i][k] * conj(L[j][k]) * D[k];
+      L[i][j] = v * inv;
+    }
+  }
+  const Cf w = unitCirclePoint(z, zone);
+  Cf c[5];
+  c[0] = {1.0f, 0.0f};
+  circlePowers(w, n, c + 1);
+  for (int i = 1; i <= n; ++i)
+    for (int k = 0; k < i; ++k) c[i] = c[i] - L[i][k] * c[k];
+  for (int i = 0; i <= n; ++i) c[i] = c[i] * (1.0f / D[i]);
+  for (int i = n - 1; i >= 0; --i)
+    for (int k = i + 1; k <= n; ++k) c[i] = c[i] - conj(L[k][i]) * c[k];
+  // The roots of Σ conj(c_k)·x^k lie on the unit circle.
+  std::complex<double> cd[5];
+  for (int k = 0; k <= n; ++k) cd[k] = {double(c[k].x), -double(c[k].y)};
+  const std::vector<std::complex<double>> roots = complexRoots(cd, n);
+  const float depthParameter = circleToParameter(w.x, w.y);
+  Cf x[5];
+  float f[5];
+  x[0] = w, f[0] = overestimation;
+  for (int i = 0; i < n; ++i) {
+    x[i + 1] = {float(roots[size_t(i)].real()), float(roots[size_t(i)].imag())};
+    if (!std::isfinite(x[i + 1].x) || !std::isfinite(x[i + 1].y)) return fallBack();
+    const float rootParameter = circleToParameter(x[i + 1].x, x[i + 1].y);
+    f[i + 1] = (rootParameter < depthParameter ? 1.0f : 0.0f) +
+               std::clamp(rootParameter * zone.rampScale + zone.rampOffset, 0.0f, 1.0f);
+  }
+  Cf poly[5];
+  interpolate(x, f, n, poly);
+  float absorbance = 0.0f;
+  for (int k = 0; k <= n; ++k) absorbance += (B[k] * poly[k]).x;
+  return std::isfinite(absorbance) ? absorbance : fallBack();
+}
+
+}  // namespace oitref::methods
