@@ -376,3 +376,43 @@ TEST_CASE("dfaoit: exact up to two layers, the network on the paper's features b
   });
   CHECK(inferred > 200);
 }
+
+TEST_CASE("meshkin3: Vallius's listing 4.1 by hand and in closed form", "[methods][meshkin3]") {
+  // out = t1.rgb − bg·t1.a + bg·t3.a + bg·t2.rgb·t3.a with t1 = Σ(c·α, α), t2 = Σ(1/α, …, α),
+  // t3 = Π(c, α). By hand, over a blue background:
+  //   no layers:                            bg = (0, 0, 1)
+  //   red at α = 0.5:                       (0.5, 0, 0) + bg·(0.5·3 − 0.5) = (0.5, 0, 1)
+  //   red at 0.5 and green at 0.25:          (0.5, 0.25, 0) + bg·(0.125·7 − 0.75) = (0.5, 0.25, 0.125)
+  // (OVER would give (0.5, 0, 0.5) and (0.5, 0.125, 0.375) or (0.375, 0.25, 0.375)).
+  Scene s = layerScene(8, {0, 0, 1});
+  requireClose(render(s, "meshkin3").finalFloat, 4, 4, {0, 0, 1}, 0, "meshkin3, no layers");
+  s.objects = {quad({0, 0, 0}, 10, {1, 0, 0, 0.5f})};
+  requireClose(render(s, "meshkin3").finalFloat, 4, 4, {0.5, 0, 1}, 0, "meshkin3, one layer");
+  s.objects.push_back(quad({0, 0, -1}, 10, {0, 1, 0, 0.25f}));
+  requireClose(render(s, "meshkin3").finalFloat, 4, 4, {0.5, 0.25, 0.125}, 0, "meshkin3, two layers");
+  // The test scene in fp32 targets against the closed form Σαc + bg·(Πα·(1 + Σ1/α) − Σα). Its
+  // particles fade to α = 0 at their rims: there 1/α is infinite and Πα is 0, so the closed form
+  // and the method both give NaN (inf·0), as a GPU running the listing would.
+  const FrameResult m = render(reference().scene, "meshkin3", {{"format", "rgba32f"}});
+  int compared = 0, nan = 0;
+  forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
+    glm::dvec3 sum(0.0);
+    double sumA = 0, prodA = 1, sumInv = 0;
+    for (const auto& fr : f) {
+      sum += glm::dvec3(glm::vec3(fr.color)) * double(fr.color.a);
+      sumA += fr.color.a;
+      prodA *= fr.color.a;
+      sumInv += 1.0 / fr.color.a;
+    }
+    const glm::dvec3 want = sum + c0 * (prodA * (1 + sumInv) - sumA);
+    ++compared;
+    if (std::isnan(want.x)) {
+      ++nan;
+      CHECK(std::isnan(m.finalFloat.fetch(x, y).r));
+      return;
+    }
+    requireClose(m.finalFloat, x, y, want, (f.size() + 3) * 8 * kU32 * (1 + sumInv), "meshkin3");
+  });
+  CHECK(compared == 64 * 48);
+  CHECK(nan < 200);
+}
