@@ -156,9 +156,16 @@ TEST_CASE("Atlas: every failure of docs/atlas.md starts where the atlas says", "
       {"scaled_x100", "mboit", {}, "fallback", 1024, 1e-4f},
       {"scaled_x0.01", "mboit", {}, "fallback", 2048, 1e-4f},
       {"hdr", "mboit", {}, "fallback", 2048, 1e-4f},      {"bright", "mboit", {}, "fallback", 2048, 1e-4f},
+      {"base", "mboit", {{"moments", "trig3"}}, "fallback", 128, 1.0f},
+      {"colocated", "mboit", {{"moments", "power8"}}, "fallback", 32, 1e-4f},
+      {"base", "mboit", {{"storage", "unorm16"}}, "fallback", 256, 1e-4f},
+      {"distant", "mboit", {{"storage", "unorm16"}}, "fallback", 8, 0.01f},
+      {"colocated", "mt", {}, "fallback", 8, 1e-4f},
+      {"hdr", "meshkin3", {}, "inf:t3", 8, 0.5f},
   };
   auto shows = [](const StressCell& c, const std::string& what) {
     if (what == "inf") return std::find(c.infIn.begin(), c.infIn.end(), "accum") != c.infIn.end();
+    if (what.rfind("inf:", 0) == 0) return std::find(c.infIn.begin(), c.infIn.end(), what.substr(4)) != c.infIn.end();
     if (what == "nonfinite") return c.nonFinitePixels > 0;
     return c.momentFallbacks > 0;
   };
@@ -167,6 +174,18 @@ TEST_CASE("Atlas: every failure of docs/atlas.md starts where the atlas says", "
     CHECK(shows(cell(f.method, f.options, f.condition, f.first, f.alpha), f.what));
     CHECK(!shows(cell(f.method, f.options, f.condition, f.first / 2, f.alpha), f.what));
   }
+}
+
+TEST_CASE("Atlas: meshkin3's 1/α overflows RGBA16F below α = 1/65520", "[atlas]") {
+  // t2 sums 1/α: α = 0 stores inf, which the composite multiplies by t3.a = Πα = 0 (NaN); any
+  // α < 1/65520 stores inf too (fp16's largest finite value is 65504), and inf·Πα stays inf.
+  for (float alpha : {0.0f, 1e-7f}) {
+    const StressCell c = cell("meshkin3", {}, "base", 1, alpha);
+    CHECK(c.nonFinitePixels > 0);
+    CHECK(std::find(c.infIn.begin(), c.infIn.end(), "t2") != c.infIn.end());
+  }
+  CHECK(cell("meshkin3", {}, "base", 1, 1e-4f).nonFinitePixels == 0);  // 1/α = 10000 fits
+  CHECK(cell("meshkin3", {{"format", "rgba32f"}}, "base", 1, 1e-7f).nonFinitePixels == 0);
 }
 
 TEST_CASE("Atlas: DFAOIT cannot add more than 1 per channel: HDR layers are clipped", "[atlas]") {
