@@ -2,7 +2,7 @@
 // against hand-derived cases and an independent reconstruction in long double: Gaussian
 // elimination instead of Cholesky, roots by bisection between the derivative's roots (power) or
 // Newton from points on the unit circle (trigonometric) instead of Newton–deflation and
-// Durand–Kerner, Lagrange instead of Newton interpolation.
+// Aberth–Ehrlich, Lagrange instead of Newton interpolation.
 #include <catch2/catch.hpp>
 
 #include <complex>

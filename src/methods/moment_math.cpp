@@ -252,32 +252,56 @@ std::vector<double> realRootsOfRealRooted(const double* c, int n) {
   return roots;
 }
 
-// Durand–Kerner (Weierstrass) iteration from the customary starting points (0.4 + 0.9i)^k, in
-// place (each update uses the newest others), until no root moves by more than 1e-15 of its
-// size, or 2000 sweeps.
+// Aberth–Ehrlich iteration from the points (0.4 + 0.9i)^k, in place (each update uses the newest
+// others): z_i −= w / (1 − w·Σ_{j≠i} 1/(z_i − z_j)) with w = p(z_i)/p'(z_i), until no root moves
+// by more than 1e-15 of 1 + its size, or 500 sweeps. Cubically convergent for simple roots, which
+// matters here: MBOIT's roots crowd together when layers do.
 std::vector<std::complex<double>> complexRoots(const std::complex<double>* c, int n) {
-  using C = std::complex<double>;
-  std::vector<C> z(size_t(n), C(NAN, NAN));
-  if (!(std::abs(c[n]) > 0.0) || !std::isfinite(std::abs(c[n]))) return z;
-  C a[5];
-  for (int k = 0; k <= n; ++k) a[k] = c[k] / c[n];
-  C start(1.0, 0.0);
-  for (int i = 0; i < n; ++i, start *= C(0.4, 0.9)) z[size_t(i)] = start;
-  for (int sweep = 0; sweep < 2000; ++sweep) {
-    double moved = 0.0;
+  // Complex arithmetic written out (the library's division and abs call __divdc3 and hypot,
+  // which dominated the trigonometric variants' time); x/y = x·conj(y)/|y|².
+  struct Cd {
+    double re, im;
+  };
+  auto mul = [](Cd a, Cd b) { return Cd{a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; };
+  auto div = [](Cd a, Cd b) {
+    const double d = b.re * b.re + b.im * b.im;
+    return Cd{(a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d};
+  };
+  auto norm = [](Cd a) { return a.re * a.re + a.im * a.im; };
+  std::vector<std::complex<double>> out(size_t(n), std::complex<double>(NAN, NAN));
+  const Cd lead{c[n].real(), c[n].imag()};
+  if (!(norm(lead) > 0.0) || !std::isfinite(norm(lead))) return out;
+  Cd a[5], z[4];
+  for (int k = 0; k <= n; ++k) a[k] = div(Cd{c[k].real(), c[k].imag()}, lead);
+  Cd start{1.0, 0.0};
+  for (int i = 0; i < n; ++i, start = mul(start, Cd{0.4, 0.9})) z[i] = start;
+  for (int sweep = 0; sweep < 500; ++sweep) {
+    bool moved = false;
     for (int i = 0; i < n; ++i) {
-      C p(1.0, 0.0), den(1.0, 0.0);
-      const C x = z[size_t(i)];
-      for (int k = n - 1; k >= 0; --k) p = p * x + a[k];
+      const Cd x = z[i];
+      Cd p{1.0, 0.0}, dp{0.0, 0.0};
+      for (int k = n - 1; k >= 0; --k) {
+        const Cd px = mul(p, x), dpx = mul(dp, x);
+        dp = Cd{dpx.re + p.re, dpx.im + p.im};
+        p = Cd{px.re + a[k].re, px.im + a[k].im};
+      }
+      if (p.re == 0.0 && p.im == 0.0) continue;
+      Cd repulsion{0.0, 0.0};
       for (int j = 0; j < n; ++j)
-        if (j != i) den *= x - z[size_t(j)];
-      const C step = p / den;
-      z[size_t(i)] = x - step;
-      moved = std::max(moved, std::abs(step) / (1.0 + std::abs(x)));
+        if (j != i) {
+          const Cd r = div(Cd{1.0, 0.0}, Cd{x.re - z[j].re, x.im - z[j].im});
+          repulsion = Cd{repulsion.re + r.re, repulsion.im + r.im};
+        }
+      const Cd w = div(p, dp), wr = mul(w, repulsion);
+      const Cd step = div(w, Cd{1.0 - wr.re, -wr.im});
+      z[i] = Cd{x.re - step.re, x.im - step.im};
+      const double size = 1.0 + std::sqrt(norm(x));
+      moved = moved || !(norm(step) <= 1e-30 * size * size);
     }
-    if (!(moved > 1e-15)) break;
+    if (!moved) break;
   }
-  return z;
+  for (int i = 0; i < n; ++i) out[size_t(i)] = {z[i].re, z[i].im};
+  return out;
 }
 
 namespace {
