@@ -126,35 +126,25 @@ class Mboit final : public Method {
                           });
     }
 
-    PipelineState st = transparentState(profile, additiveBlend());
-    st.blend[1] = revealageBlend();
-    Framebuffer fb;
-    fb.color[0] = &accum;
-    fb.color[1] = &reveal;
-    fb.depth = &t.depth("depth");
     const float bias = bias_, overestimation = overestimation_;
     const bool quantised = quantised_;
     const float* biasVector = set.trigonometric ? nullptr : powerBiasVector(set.count, quantised);
     std::atomic<uint64_t> fallbacks{0};  // a sum: the same for any order of the fragments
-    run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+    accumulateWeighted(run, t, accum, reveal, [&](const FragmentInput& in, const glm::vec4&) {
       const float b0 = b0Image.fetch(in.x, in.y).r;
-      float w = 1.0f;
-      if (b0 >= 0.00100050033f) {
-        float stored[8] = {}, b[8] = {};
-        loadMoments(in.x, in.y, stored);
-        if (quantised) dequantiseMoments(set, stored, b);
-        else for (int k = 0; k < reals; ++k) b[k] = stored[k] / b0;
-        bool fellBack = false;
-        const float z = warp(in);
-        const float absorbance = set.trigonometric
-                                     ? trigMomentAbsorbance(set.count, b, z, bias, overestimation, zone, &fellBack)
-                                     : powerMomentAbsorbance(set.count, b, z, bias, biasVector, overestimation, &fellBack);
-        if (fellBack) fallbacks.fetch_add(1, std::memory_order_relaxed);
-        w = float(detExp(-double(b0) * double(absorbance)));
-        if (!set.trigonometric) w = std::clamp(w, 0.0f, 1.0f);
-      }
-      out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
-      out.write(1, glm::vec4(c.a));
+      if (b0 < 0.00100050033f) return 1.0f;
+      float stored[8] = {}, b[8] = {};
+      loadMoments(in.x, in.y, stored);
+      if (quantised) dequantiseMoments(set, stored, b);
+      else for (int k = 0; k < reals; ++k) b[k] = stored[k] / b0;
+      bool fellBack = false;
+      const float z = warp(in);
+      const float absorbance = set.trigonometric
+                                   ? trigMomentAbsorbance(set.count, b, z, bias, overestimation, zone, &fellBack)
+                                   : powerMomentAbsorbance(set.count, b, z, bias, biasVector, overestimation, &fellBack);
+      if (fellBack) fallbacks.fetch_add(1, std::memory_order_relaxed);
+      const float w = float(detExp(-double(b0) * double(absorbance)));
+      return set.trigonometric ? w : std::clamp(w, 0.0f, 1.0f);
     });
 
     compositeWeighted(run, t, accum, reveal);  // as WBOIT

@@ -147,6 +147,20 @@ void PassRunner::compositeOntoBackgrounds(FrameTargets& targets, const std::stri
   });
 }
 
+void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const FragmentWeight& weight) {
+  Framebuffer fb;
+  fb.color[0] = &accum;
+  fb.color[1] = &reveal;
+  fb.depth = &targets.depth("depth");
+  PipelineState st = transparentState(run.context().profile, additiveBlend());
+  st.blend[1] = revealageBlend();
+  run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+    const float w = weight(in, c);
+    out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
+    out.write(1, glm::vec4(c.a));
+  });
+}
+
 void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal) {
   run.blendOverBackground(targets, [&](const FragmentInput& in, glm::vec4& s) {
     s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);

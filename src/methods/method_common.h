@@ -99,6 +99,12 @@ inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
   return {glm::vec3(accum) / std::clamp(accum.a, 1e-4f, 5e4f), reveal};
 }
 
+// The accumulation pass of McGuire–Bavoil eq. 6 (listing 3), which WBOIT, MBOIT and MT share:
+// accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,
+// ONE_MINUS_SRC_COLOR, against the opaque depth; `weight` gives each fragment's w.
+using FragmentWeight = std::function<float(const FragmentInput&, const glm::vec4& color)>;
+void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const FragmentWeight& weight);
+
 // The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal)
 // blended over the background (PassRunner::blendOverBackground).
 void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal);

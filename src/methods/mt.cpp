@@ -64,16 +64,10 @@ class Mt final : public Method {
                           out.write(1, glm::vec4(u, u2, u2 * u, u2 * u2) * a);
                         });
 
-    PipelineState st = transparentState(profile, additiveBlend());
-    st.blend[1] = revealageBlend();
-    Framebuffer fb;
-    fb.color[0] = &accum;
-    fb.color[1] = &reveal;
-    fb.depth = &t.depth("depth");
     const float bias = bias_;
     const float* biasVector = powerBiasVector(4, false);
     std::atomic<uint64_t> fallbacks{0};
-    run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+    accumulateWeighted(run, t, accum, reveal, [&](const FragmentInput& in, const glm::vec4&) {
       const float total = opticalDepth.fetch(in.x, in.y).r;
       glm::vec4 m = moments.fetch(in.x, in.y);
       if (total != 0.0f) m /= total;
@@ -81,9 +75,7 @@ class Mt final : public Method {
       bool fellBack = false;
       const float bound = std::clamp(powerMomentAbsorbance(4, b, unitDepth(in), bias, biasVector, 0.0f, &fellBack), 0.0f, 1.0f);
       if (fellBack) fallbacks.fetch_add(1, std::memory_order_relaxed);
-      const float w = float(detExp(-double(bound) * double(total)));
-      out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
-      out.write(1, glm::vec4(c.a));
+      return float(detExp(-double(bound) * double(total)));
     });
 
     compositeWeighted(run, t, accum, reveal);

@@ -84,20 +84,13 @@ class Wboit final : public Method {
     const DepthBuffer& depth = t.depth("depth");
     reveal.clear(glm::vec4(1.0f), context.profile);                  // step 5
     accum.clear(glm::vec4(0.0f), context.profile);                   // step 6
-    Framebuffer fb;                                                  // steps 4, 8
-    fb.color[0] = &accum;
-    fb.color[1] = &reveal;
-    fb.depth = &t.depth("depth");
-    PipelineState st = transparentState(context.profile, additiveBlend());  // steps 7, 11
-    st.blend[1] = revealageBlend();  // step 10
+    // Steps 4, 7–12: accum += (c·α·w, α·w) (S_accum, eq. 2.6), reveal *= (1 − α).
     const Weight kind = weight_;
     const bool adaptive = adaptive_;
-    run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+    accumulateWeighted(run, t, accum, reveal, [&](const FragmentInput& in, const glm::vec4& c) {
       float z = in.depth;
       if (adaptive) z = z / float(depth.depth(in.x, in.y));  // z / z_s: the opaque depth behind it
-      const float w = weight(kind, c.a, z, in.viewDepth);
-      out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));     // step 12: S_accum (eq. 2.6)
-      out.write(1, glm::vec4(c.a));
+      return weight(kind, c.a, z, in.viewDepth);
     });
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
     compositeWeighted(run, t, accum, reveal);
