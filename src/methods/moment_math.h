@@ -40,7 +40,8 @@ float circleToParameter(float x, float y);
 void momentsOf(const MomentSet& set, float z, const WrappingZone& zone, float* out);
 
 // 16-bit storage: normalised moments are mapped by a fixed matrix and offset into [0, 1] so
-// that UNORM16 keeps their useful precision; for trigonometric moments the map is b/2 + 1/2.
+// that UNORM16 keeps their useful precision; for trigonometric moments the map is b/2 + 1/2
+// (moment_quantisation.cpp).
 // The matrices, offsets, bias vectors and β values are the ones published with the paper's
 // code (CC0), which the GLSL ports use unchanged.
 void quantiseMoments(const MomentSet& set, const float* b, float* q);     // without the offset
