@@ -1,7 +1,12 @@
-# Renders SCENE with METHOD at 1, 2 and 7 threads and checks the pixels' SHA-256 is the same.
+# Renders SCENE with METHOD (and the method options in SETS, "key=value;key=value") at 1, 2 and
+# 7 threads and checks the pixels' SHA-256 is the same.
 set(hashes "")
+set(setArgs "")
+foreach(kv ${SETS})
+  list(APPEND setArgs --set ${kv})
+endforeach()
 foreach(threads 1 2 7)
-  execute_process(COMMAND ${OITREF} render ${SCENE} --method ${METHOD} --size 200x120 --threads ${threads} --json
+  execute_process(COMMAND ${OITREF} render ${SCENE} --method ${METHOD} ${setArgs} --size 200x120 --threads ${threads} --json
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "render failed with ${threads} threads:\n${err}")
