@@ -52,19 +52,26 @@ WrappingZone WrappingZone::fromAngle(float angle) {
 
 namespace {
 
-// fp32 complex arithmetic written out, so each operation rounds as the shader's vec2 code does.
-struct Cf {
-  float x = 0.0f, y = 0.0f;
+// Complex arithmetic written out, so each operation rounds as written: in fp32 as the shader's
+// vec2 code does (Cf), and in double for the root finder, where the library's division and abs
+// (__divdc3, hypot) also dominated the time (Cd).
+template <typename T>
+struct Cx {
+  T x = 0, y = 0;
 };
-Cf operator-(Cf a, Cf b) { return {a.x - b.x, a.y - b.y}; }
-Cf operator*(Cf a, Cf b) { return {a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x}; }
-Cf operator*(Cf a, float s) { return {a.x * s, a.y * s}; }
-Cf conj(Cf a) { return {a.x, -a.y}; }
-Cf divide(Cf a, Cf b) {  // a·conj(b) / |b|²
-  const Cf n = a * conj(b);
-  const float d = b.x * b.x + b.y * b.y;
+template <typename T> Cx<T> operator+(Cx<T> a, Cx<T> b) { return {a.x + b.x, a.y + b.y}; }
+template <typename T> Cx<T> operator-(Cx<T> a, Cx<T> b) { return {a.x - b.x, a.y - b.y}; }
+template <typename T> Cx<T> operator*(Cx<T> a, Cx<T> b) { return {a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x}; }
+template <typename T> Cx<T> operator*(Cx<T> a, T s) { return {a.x * s, a.y * s}; }
+template <typename T> Cx<T> conj(Cx<T> a) { return {a.x, -a.y}; }
+template <typename T> T norm(Cx<T> a) { return a.x * a.x + a.y * a.y; }
+template <typename T> Cx<T> divide(Cx<T> a, Cx<T> b) {  // a·conj(b) / |b|²
+  const Cx<T> n = a * conj(b);
+  const T d = norm(b);
   return {n.x / d, n.y / d};
 }
+using Cf = Cx<float>;
+using Cd = Cx<double>;
 
 Cf unitCirclePoint(float z, const WrappingZone& zone) {
   const float phase = z * zone.phaseScale + zone.phaseScale;
@@ -148,50 +155,32 @@ std::vector<double> realRootsOfRealRooted(const double* c, int n) {
 // by more than 1e-15 of 1 + its size, or 500 sweeps. Cubically convergent for simple roots, which
 // matters here: MBOIT's roots crowd together when layers do.
 std::vector<std::complex<double>> complexRoots(const std::complex<double>* c, int n) {
-  // Complex arithmetic written out (the library's division and abs call __divdc3 and hypot,
-  // which dominated the trigonometric variants' time); x/y = x·conj(y)/|y|².
-  struct Cd {
-    double re, im;
-  };
-  auto mul = [](Cd a, Cd b) { return Cd{a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re}; };
-  auto div = [](Cd a, Cd b) {
-    const double d = b.re * b.re + b.im * b.im;
-    return Cd{(a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d};
-  };
-  auto norm = [](Cd a) { return a.re * a.re + a.im * a.im; };
   std::vector<std::complex<double>> out(size_t(n), std::complex<double>(NAN, NAN));
   const Cd lead{c[n].real(), c[n].imag()};
   if (!(norm(lead) > 0.0) || !std::isfinite(norm(lead))) return out;
   Cd a[5], z[4];
-  for (int k = 0; k <= n; ++k) a[k] = div(Cd{c[k].real(), c[k].imag()}, lead);
+  for (int k = 0; k <= n; ++k) a[k] = divide(Cd{c[k].real(), c[k].imag()}, lead);
   Cd start{1.0, 0.0};
-  for (int i = 0; i < n; ++i, start = mul(start, Cd{0.4, 0.9})) z[i] = start;
+  for (int i = 0; i < n; ++i, start = start * Cd{0.4, 0.9}) z[i] = start;
   for (int sweep = 0; sweep < 500; ++sweep) {
     bool moved = false;
     for (int i = 0; i < n; ++i) {
       const Cd x = z[i];
       Cd p{1.0, 0.0}, dp{0.0, 0.0};
-      for (int k = n - 1; k >= 0; --k) {
-        const Cd px = mul(p, x), dpx = mul(dp, x);
-        dp = Cd{dpx.re + p.re, dpx.im + p.im};
-        p = Cd{px.re + a[k].re, px.im + a[k].im};
-      }
-      if (p.re == 0.0 && p.im == 0.0) continue;
+      for (int k = n - 1; k >= 0; --k) dp = dp * x + p, p = p * x + a[k];
+      if (p.x == 0.0 && p.y == 0.0) continue;
       Cd repulsion{0.0, 0.0};
       for (int j = 0; j < n; ++j)
-        if (j != i) {
-          const Cd r = div(Cd{1.0, 0.0}, Cd{x.re - z[j].re, x.im - z[j].im});
-          repulsion = Cd{repulsion.re + r.re, repulsion.im + r.im};
-        }
-      const Cd w = div(p, dp), wr = mul(w, repulsion);
-      const Cd step = div(w, Cd{1.0 - wr.re, -wr.im});
-      z[i] = Cd{x.re - step.re, x.im - step.im};
+        if (j != i) repulsion = repulsion + divide(Cd{1.0, 0.0}, x - z[j]);
+      const Cd w = divide(p, dp);
+      const Cd step = divide(w, Cd{1.0, 0.0} - w * repulsion);
+      z[i] = x - step;
       const double size = 1.0 + std::sqrt(norm(x));
       moved = moved || !(norm(step) <= 1e-30 * size * size);
     }
     if (!moved) break;
   }
-  for (int i = 0; i < n; ++i) out[size_t(i)] = {z[i].re, z[i].im};
+  for (int i = 0; i < n; ++i) out[size_t(i)] = {z[i].x, z[i].y};
   return out;
 }
 
@@ -323,7 +312,7 @@ float trigMomentAbsorbance(int count, const float* b, float z, float bias, float
   float D[5];
   for (int j = 0; j <= n; ++j) {
     float d = B[0].x;
-    for (int k = 0; k < j; ++k) d -= (L[j][k] * conj(L[j][k])).x * D[k];
+    for (int k = 0; k < j; ++k) d -= norm(L[j][k]) * D[k];
     if (!(d > 0.0f)) return fallBack();
     D[j] = d;
     const float inv = 1.0f / d;
