@@ -9,6 +9,9 @@
 //  * UnormRounding::Fp32Product: clamp, then the product rounded to fp32 first, then to the nearest
 //    integer, ties to even — what `lrintf(f * 255.0f)` does and what Mesa's llvmpipe does. It
 //    differs from the exact result for 128 inputs in [0,1] at b = 8 (the test lists them).
+//  * UnormRounding::NvidiaFixed: what an NVIDIA Hopper GPU stores (docs/rules.md, "Profile
+//    nvidia"): clamp (NaN -> 0), truncate to b + 4 fraction bits, X = floor(f·2^(b+4)), then
+//    (X·(2^b − 1) + 2^(b+3) − 1) >> (b + 4): the product rounded to nearest, ties down.
 // Decoding (GL 4.6 §2.3.5.1): k / (2^b − 1), correctly rounded to fp32.
 #pragma once
 
@@ -17,7 +20,7 @@
 
 namespace oitref {
 
-enum class UnormRounding : uint8_t { ExactNearestEven, Fp32Product };
+enum class UnormRounding : uint8_t { ExactNearestEven, Fp32Product, NvidiaFixed };
 
 // Clamp to [0,1] with NaN -> 0: the clamp GL applies to fixed-point blending inputs and outputs.
 inline float clampUnit(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; }
@@ -34,6 +37,11 @@ inline uint32_t roundHalfEven(double p) {
 inline uint32_t encodeUnorm(float value, int bits, UnormRounding rounding = UnormRounding::ExactNearestEven) {
   const uint32_t maxCode = (uint32_t(1) << bits) - 1;
   const float v = clampUnit(value);
+  if (rounding == UnormRounding::NvidiaFixed) {
+    const int fraction = bits + 4;  // f < 2^24 needs no more: the double product below is exact
+    const uint64_t x = uint64_t(double(v) * double(uint64_t(1) << fraction));
+    return uint32_t((x * maxCode + (uint64_t(1) << (fraction - 1)) - 1) >> fraction);
+  }
   if (rounding == UnormRounding::Fp32Product) {
     const float product = v * float(maxCode);  // rounded to fp32 first
     return roundHalfEven(double(product));

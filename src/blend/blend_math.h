@@ -55,6 +55,11 @@ typedef double v4d __attribute__((vector_size(32)));
 inline v4i encodeUnorm4(v4f v, int bits, UnormRounding rounding) {
   const uint32_t maxCode = (uint32_t(1) << bits) - 1;
   v = clampUnit4(v);
+  if (rounding == UnormRounding::NvidiaFixed) {  // bits ≤ 12 (X·maxCode < 2^31): the 8-bit kernels
+    const int fraction = bits + 4;
+    const v4i x = __builtin_convertvector(v * float(1 << fraction), v4i);  // exact scaling, then floor (v ≥ 0)
+    return (x * int32_t(maxCode) + ((1 << (fraction - 1)) - 1)) >> fraction;
+  }
   if (rounding == UnormRounding::Fp32Product) {
     const v4f p = v * float(maxCode);
     const v4f twoPow23 = splat(8388608.0f);

@@ -5,6 +5,7 @@
 
 #include "blend/blend_math.h"
 #include "blend/blend_llvmpipe_float.h"
+#include "blend/blend_nvidia.h"
 #include "blend/blend_unorm_integer.h"
 #include "format/fp16_inline.h"
 
@@ -28,7 +29,10 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
   mask_ = state.writeMask & all;
   flushDenormals_ = !(smallFloatTargetBound || isSmallFloatFormat(format));
   const bool integer = profile.unormBlend == UnormBlend::Integer && format.isUnorm();
+  const bool nvidia = format.id != FormatId::Minifloat &&
+                     (format.isUnorm() ? profile.unormBlend == UnormBlend::Nvidia : profile.floatBlend == FloatBlend::Nvidia);
   if (mask_ == 0) kernel_ = maskedOffKernel;
+  else if (state.enabled && nvidia) kernel_ = nvidiaKernel;
   else if (state.enabled && integer) kernel_ = integerUnormKernel;
   else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) kernel_ = llvmpipeFloatKernel;
   else if (!allowFastPath || mask_ != all) kernel_ = genericKernel;
@@ -71,6 +75,10 @@ void TargetBlender::llvmpipeFloatKernel(const TargetBlender& b, const glm::vec4&
   uint8_t encoded[16];
   encodeTexel(f, result, b.profile_, encoded);
   mergeTexelChannels(f, encoded, texel, b.mask_);
+}
+
+void TargetBlender::nvidiaKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  blendNvidia(b.format_, b.state_, b.rawConstant_, source, b.mask_, texel);
 }
 
 void TargetBlender::integerUnormKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {

@@ -38,6 +38,7 @@ class TargetBlender {
   static void genericKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void integerUnormKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void llvmpipeFloatKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  static void nvidiaKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void maskedOffKernel(const TargetBlender&, const glm::vec4&, uint8_t*) {}
 
   Format format_;

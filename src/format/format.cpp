@@ -139,9 +139,10 @@ void encodeTexel(const Format& f, const glm::vec4& v, const Profile& profile, ui
         uint32_t w = 0;
         for (int c = 0; c < 4; ++c) {
           // llvmpipe writes these channels through its 16-bit blend integers even with blending off.
-          const uint32_t code = profile.unormBlend == UnormBlend::Integer
-                                    ? detail::encodeUnormThroughWidth(v[c], kRgb10a2Bits[c], 16, profile.unorm)
-                                    : encodeUnorm(v[c], kRgb10a2Bits[c], profile.unorm);
+          const uint32_t code =
+              profile.unormBlend == UnormBlend::Integer ? detail::encodeUnormThroughWidth(v[c], kRgb10a2Bits[c], 16, profile.unorm)
+              : profile.unorm == UnormRounding::NvidiaFixed && c == 3 ? detail::nvidiaAlpha2From10(encodeUnorm(v[c], 10, profile.unorm))
+                                                                      : encodeUnorm(v[c], kRgb10a2Bits[c], profile.unorm);
           w |= code << kRgb10a2Shift[c];
         }
         storeWord(texel, w);

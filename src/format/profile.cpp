@@ -7,6 +7,11 @@ namespace oitref {
 namespace {
 
 const char* roundingName(Rounding r) { return r == Rounding::NearestEven ? "rne" : "rtz"; }
+const char* unormName(UnormRounding u) {
+  return u == UnormRounding::ExactNearestEven ? "exact" : u == UnormRounding::Fp32Product ? "fp32" : "nvidia";
+}
+const char* unormBlendName(UnormBlend b) { return b == UnormBlend::Float ? "float" : b == UnormBlend::Integer ? "integer" : "nvidia"; }
+const char* floatBlendName(FloatBlend b) { return b == FloatBlend::Ieee ? "ieee" : b == FloatBlend::Llvmpipe ? "llvmpipe" : "nvidia"; }
 
 Rounding parseRounding(const std::string& key, const std::string& v) {
   if (v == "rne") return Rounding::NearestEven;
@@ -20,9 +25,8 @@ std::string Profile::describe() const {
   std::ostringstream s;
   s << name << " (fp16=" << roundingName(fp16) << ", packed=" << roundingName(packedFloat)
     << ", minifloat=" << roundingName(minifloat)
-    << ", unorm=" << (unorm == UnormRounding::ExactNearestEven ? "exact" : "fp32")
-    << ", unorm_blend=" << (unormBlend == UnormBlend::Float ? "float" : "integer")
-    << ", float_blend=" << (floatBlend == FloatBlend::Ieee ? "ieee" : "llvmpipe") << ", fma=" << (fma ? "on" : "off") << ")";
+    << ", unorm=" << unormName(unorm) << ", unorm_blend=" << unormBlendName(unormBlend)
+    << ", float_blend=" << floatBlendName(floatBlend) << ", fma=" << (fma ? "on" : "off") << ")";
   return s.str();
 }
 
@@ -41,6 +45,19 @@ Profile llvmpipeProfile() {
   return p;
 }
 
+Profile nvidiaProfile() {
+  Profile p;
+  p.name = "nvidia";
+  p.fp16 = Rounding::TowardZero;
+  p.packedFloat = Rounding::TowardZero;
+  p.minifloat = Rounding::NearestEven;  // no GPU format: user minifloats keep the exact rules
+  p.unorm = UnormRounding::NvidiaFixed;
+  p.unormBlend = UnormBlend::Nvidia;
+  p.floatBlend = FloatBlend::Nvidia;
+  p.fma = false;
+  return p;
+}
+
 Profile parseProfile(const std::string& text) {
   std::istringstream in(text);
   std::string part;
@@ -48,7 +65,8 @@ Profile parseProfile(const std::string& text) {
   Profile p;
   if (part == "exact") p = exactProfile();
   else if (part == "llvmpipe") p = llvmpipeProfile();
-  else throw std::invalid_argument("unknown profile '" + part + "' (valid: exact, llvmpipe)");
+  else if (part == "nvidia") p = nvidiaProfile();
+  else throw std::invalid_argument("unknown profile '" + part + "' (valid: exact, llvmpipe, nvidia)");
   bool overridden = false;
   while (std::getline(in, part, ',')) {
     const auto eq = part.find('=');
@@ -61,15 +79,18 @@ Profile parseProfile(const std::string& text) {
     else if (key == "unorm") {
       if (value == "exact") p.unorm = UnormRounding::ExactNearestEven;
       else if (value == "fp32") p.unorm = UnormRounding::Fp32Product;
-      else throw std::invalid_argument("profile key 'unorm': expected exact or fp32, got '" + value + "'");
+      else if (value == "nvidia") p.unorm = UnormRounding::NvidiaFixed;
+      else throw std::invalid_argument("profile key 'unorm': expected exact, fp32 or nvidia, got '" + value + "'");
     } else if (key == "unorm_blend") {
       if (value == "float") p.unormBlend = UnormBlend::Float;
       else if (value == "integer") p.unormBlend = UnormBlend::Integer;
-      else throw std::invalid_argument("profile key 'unorm_blend': expected float or integer, got '" + value + "'");
+      else if (value == "nvidia") p.unormBlend = UnormBlend::Nvidia;
+      else throw std::invalid_argument("profile key 'unorm_blend': expected float, integer or nvidia, got '" + value + "'");
     } else if (key == "float_blend") {
       if (value == "ieee") p.floatBlend = FloatBlend::Ieee;
       else if (value == "llvmpipe") p.floatBlend = FloatBlend::Llvmpipe;
-      else throw std::invalid_argument("profile key 'float_blend': expected ieee or llvmpipe, got '" + value + "'");
+      else if (value == "nvidia") p.floatBlend = FloatBlend::Nvidia;
+      else throw std::invalid_argument("profile key 'float_blend': expected ieee, llvmpipe or nvidia, got '" + value + "'");
     } else if (key == "fma") {
       if (value == "on") p.fma = true;
       else if (value == "off") p.fma = false;

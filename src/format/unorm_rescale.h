@@ -32,6 +32,11 @@ inline uint32_t narrowUnormBits(uint32_t v, int w, int n) {
   return (((v >> n) * ((1u << n) - 1)) + (1u << (delta - 1))) >> delta;
 }
 
+// NVIDIA (profile nvidia) computes rgb10a2's alpha as a 10-bit code, like the colour channels, and
+// stores its top four bits rounded to two: round((c10 >> 6)·3/15). Measured: the thresholds of
+// the stored alpha lie at 10-bit codes 192, 512 and 832 (docs/rules.md, "Profile nvidia").
+inline uint32_t nvidiaAlpha2From10(uint32_t c10) { return ((c10 >> 6) + 2) / 5; }
+
 // fp32 -> an n-bit code through the w-bit integer, as llvmpipe writes rgb10a2 channels.
 inline uint32_t encodeUnormThroughWidth(float value, int n, int w, UnormRounding rounding) {
   return narrowUnormBits(encodeUnorm(value, w, rounding), w, n);

@@ -43,7 +43,7 @@ size_t readCases(const std::string& path, std::vector<tools::BlendCase>& cases, 
 }
 
 // Every case with GL's and oitref's stored destination and result bits, as CSV.
-void writeResults(const std::string& path, const std::vector<tools::BlendCase>& cases, const std::vector<GlTexels>& gl,
+void writeResults(const std::string& path, const std::vector<tools::BlendCase>& cases, const std::vector<tools::RecordedTexels>& gl,
                   const Profile& profile) {
   std::ostringstream w;
   w << tools::blendCsvHeader(false) << ",gl_dst_bits,gl_result_bits,oitref_dst_bits,oitref_result_bits,equal\n";
@@ -89,8 +89,8 @@ int runBlendCheck(const BlendCheckOptions& o) {
                                       (o.nonFinite ? ", with NaN and inf" : "")
                                 : std::to_string(cases.size()) + " cases from " + o.cases)
             << "\n";
-  const std::vector<GlTexels> texels = runBlendCases(context, cases);
-  const BlendCheckSummary s = compareBlendCases(cases, texels, profile, lines, o.list, std::cout);
+  const std::vector<tools::RecordedTexels> texels = runBlendCases(context, cases);
+  const tools::BlendComparison s = tools::compareBlendCases(cases, texels, profile, lines, o.list, std::cout);
   if (!o.results.empty()) writeResults(o.results, cases, texels, profile);
   if (bad) std::cerr << "oitref glcheck blend: " << bad << " bad line(s) skipped\n";
   return (s.destinationMismatches || s.resultMismatches || bad) ? 1 : 0;

@@ -2,10 +2,12 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <memory>
 #include <sstream>
 
 #include "tools/blend_case.h"
+#include "tools/blend_comparison.h"
 #include "tools/commands.h"
 #include "tools/number_parse.h"
 
@@ -15,6 +17,7 @@ namespace {
 struct BlendOptions {
   std::string format = "rgba8", equation = "add", func = "one,zero", constant = "0,0,0,0";
   std::string dst = "0,0,0,0", src = "0,0,0,0", cases, profile = "exact";
+  size_t list = 20;
 };
 
 std::vector<std::string> splitComma(const std::string& s) {
@@ -87,7 +90,20 @@ int runBatch(const BlendOptions& o) {
     }
     in = file.get();
   }
-  const int bad = runBlendCsv(*in, std::cout, std::cerr, profile, o.cases == "-" ? "<stdin>" : o.cases);
+  const std::string name = o.cases == "-" ? "<stdin>" : o.cases;
+  std::string text((std::istreambuf_iterator<char>(*in)), std::istreambuf_iterator<char>());
+  std::istringstream csv(text);
+  if (hasRecordedColumns(text.substr(0, text.find('\n')))) {
+    // Recorded GPU texels (oitref-gpu-capture): compare instead of printing results.
+    RecordedCases recorded;
+    const int bad = readRecordedCases(csv, std::cerr, name, recorded);
+    std::cout << recorded.cases.size() << " cases with recorded texels from " << name << "\n";
+    const BlendComparison s =
+        compareBlendCases(recorded.cases, recorded.texels, profile, recorded.lines, o.list, std::cout, "GPU");
+    if (bad) std::cerr << "oitref blend: " << bad << " bad line(s) skipped\n";
+    return bad || s.destinationMismatches || s.resultMismatches ? 1 : 0;
+  }
+  const int bad = runBlendCsv(csv, std::cout, std::cerr, profile, name);
   if (bad) std::cerr << "oitref blend: " << bad << " bad line(s) skipped\n";
   return bad ? 1 : 0;
 }
@@ -103,8 +119,11 @@ void addBlendCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--constant", o->constant, "Blend constant r,g,b,a")->capture_default_str();
   cmd->add_option("--dst", o->dst, "Destination r,g,b,a (stored first, converted to the format)")->capture_default_str();
   cmd->add_option("--src", o->src, "Source r,g,b,a (fp32 fragment output)")->capture_default_str();
-  cmd->add_option("--cases", o->cases, "CSV file of cases ('-' for stdin); results as CSV on stdout");
-  cmd->add_option("--profile", o->profile, "exact | llvmpipe, optionally with ,key=value overrides")->capture_default_str();
+  cmd->add_option("--cases", o->cases,
+                  "CSV file of cases ('-' for stdin); results as CSV on stdout, or, when the file has gpu_dst_bits and "
+                  "gpu_result_bits columns (oitref-gpu-capture), the share of bit-equal texels and exit status 1 on any difference");
+  cmd->add_option("--list", o->list, "With recorded GPU texels: how many mismatches to list")->capture_default_str();
+  cmd->add_option("--profile", o->profile, "exact | llvmpipe | nvidia, optionally with ,key=value overrides")->capture_default_str();
   cmd->callback([o, &exitCode] {
     exitCode = runReportingErrors("blend", [&] {
       return o->cases.empty() ? runSingle(*o) : runBatch(*o);

@@ -1,0 +1,227 @@
+#include "blend/blend_nvidia.h"
+
+#include <algorithm>
+#include <bit>
+#include <climits>
+#include <cmath>
+#include <cstring>
+
+#include "format/packed_layout.h"
+#include "format/unorm_rescale.h"
+#include "oitref/fp16.h"
+#include "oitref/profile.h"
+#include "oitref/unorm.h"
+
+namespace oitref::detail {
+namespace {
+
+bool isMinMax(BlendEquation e) { return e == BlendEquation::Min || e == BlendEquation::Max; }
+
+// ---- UNORM targets: exact arithmetic on codes --------------------------------------------------
+
+void blendUnorm(const Format& f, const BlendState& st, const glm::vec4& constant, const glm::vec4& source, unsigned mask,
+                uint8_t* texel) {
+  const bool packed = f.id == FormatId::RGB10A2;
+  const int bits = packed ? 10 : f.unormBits(0), bytes = bits / 8;
+  const int64_t M = (int64_t(1) << bits) - 1;
+  int64_t s[4], k[4], d[4] = {0, 0, 0, M};
+  uint32_t word = 0;
+  if (packed) std::memcpy(&word, texel, 4);
+  for (int c = 0; c < 4; ++c) {
+    s[c] = encodeUnorm(source[c], bits, UnormRounding::NvidiaFixed);
+    k[c] = encodeUnorm(constant[c], bits, UnormRounding::NvidiaFixed);
+    if (c >= f.channels) continue;
+    if (packed) {
+      const uint32_t code = (word >> kRgb10a2Shift[c]) & ((1u << kRgb10a2Bits[c]) - 1);
+      d[c] = c == 3 ? int64_t(code) * 341 : int64_t(code);  // 1023 = 3·341: a/3 as a 10-bit code
+    } else {
+      uint32_t code = 0;
+      std::memcpy(&code, texel + c * bytes, size_t(bytes));
+      d[c] = code;
+    }
+  }
+  const int64_t da = f.hasAlpha() ? d[3] : M;
+  auto factor = [&](BlendFactor factor, int lane) -> int64_t {
+    const int64_t dLane = lane < 3 ? d[lane] : da;
+    switch (factor) {
+      case BlendFactor::Zero: return 0;
+      case BlendFactor::One: return M;
+      case BlendFactor::SrcColor: return s[lane];
+      case BlendFactor::OneMinusSrcColor: return M - s[lane];
+      case BlendFactor::DstColor: return dLane;
+      case BlendFactor::OneMinusDstColor: return M - dLane;
+      case BlendFactor::SrcAlpha: return s[3];
+      case BlendFactor::OneMinusSrcAlpha: return M - s[3];
+      case BlendFactor::DstAlpha: return da;
+      case BlendFactor::OneMinusDstAlpha: return M - da;
+      case BlendFactor::ConstantColor: return k[lane];
+      case BlendFactor::OneMinusConstantColor: return M - k[lane];
+      case BlendFactor::ConstantAlpha: return k[3];
+      case BlendFactor::OneMinusConstantAlpha: return M - k[3];
+      case BlendFactor::SrcAlphaSaturate: return lane < 3 ? std::min(s[3], M - da) : M;
+    }
+    return 0;
+  };
+  for (int c = 0; c < f.channels; ++c) {
+    if (!(mask >> c & 1)) continue;
+    const bool alpha = c == 3;
+    const BlendEquation eq = alpha ? st.equationAlpha : st.equationRgb;
+    const int64_t dc = alpha ? da : d[c];
+    int64_t code;
+    if (eq == BlendEquation::Min) code = std::min(s[c], dc);
+    else if (eq == BlendEquation::Max) code = std::max(s[c], dc);
+    else {
+      const int64_t a = s[c] * factor(alpha ? st.srcAlpha : st.srcRgb, c), b = dc * factor(alpha ? st.dstAlpha : st.dstRgb, c);
+      const int64_t n = std::clamp(eq == BlendEquation::Add ? a + b : eq == BlendEquation::Subtract ? a - b : b - a,
+                                   int64_t(0), M * M);
+      code = (2 * n + M) / (2 * M);  // n/M to the nearest integer; M is odd, so no ties
+    }
+    if (packed) {
+      const uint32_t stored = alpha ? nvidiaAlpha2From10(uint32_t(code)) : uint32_t(code);
+      word = (word & ~(((1u << kRgb10a2Bits[c]) - 1) << kRgb10a2Shift[c])) | (stored << kRgb10a2Shift[c]);
+    } else {
+      const uint32_t v = uint32_t(code);
+      std::memcpy(texel + c * bytes, &v, size_t(bytes));
+    }
+  }
+  if (packed) std::memcpy(texel, &word, 4);
+}
+
+// ---- float targets: the two-product adder ------------------------------------------------------
+
+struct FloatTarget {
+  int p;            // significand bits of the blend arithmetic
+  bool fp32;        // DAZ/FTZ; else fp16 arithmetic (r11g11b10f narrows afterwards)
+};
+
+float daz(float x) { return std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
+float toHalfTowardZero(float x) { return decodeHalf(encodeHalf(x, Rounding::TowardZero)); }
+float toHalfNearest(double x) { return decodeHalf(encodeHalf(float(x), Rounding::NearestEven)); }  // x has ≤ 24 bits
+
+// 1 − x in the blend precision.
+float oneMinus(const FloatTarget& t, float x) { return t.fp32 ? 1.0f - x : toHalfNearest(1.0 - double(x)); }
+
+int exponentOf(double x) {
+  int e = 0;
+  std::frexp(x, &e);
+  return e;
+}
+
+// Rounds x·2^−L to an integer with the sticky bit: toward zero, then the last bit set if inexact.
+int64_t roundToOdd(double x, int L) {
+  const double scaled = std::ldexp(x, -L), t = std::trunc(scaled);
+  int64_t q = int64_t(std::fabs(t));
+  if (t != scaled) q |= 1;
+  return x < 0 ? -q : q;
+}
+
+struct Term {
+  float value, factor;
+  bool negate;
+  double product() const {
+    const double p = double(value) * double(factor);  // exact: at most 48 significant bits
+    return negate ? -p : p;
+  }
+  bool zero() const { return value == 0.0f || factor == 0.0f; }
+};
+
+// s·Sf ± d·Df as the blender sums it; `zeroSign` decides the sign of a sum of two exact zeros.
+double twoProductSum(const FloatTarget& t, const Term& a, const Term& b, bool zeroNegative) {
+  const double pa = a.product(), pb = b.product();
+  if (!std::isfinite(pa) || !std::isfinite(pb) || std::isnan(pa + pb)) return pa + pb;
+  if (a.zero() && b.zero()) return zeroNegative ? -0.0 : 0.0;
+  int e = INT_MIN;
+  if (!a.zero()) e = exponentOf(a.value) + exponentOf(a.factor);
+  if (!b.zero()) e = std::max(e, exponentOf(b.value) + exponentOf(b.factor));
+  int L = e - (t.p + 4);
+  int64_t sum = (a.zero() ? 0 : roundToOdd(pa, L)) + (b.zero() ? 0 : roundToOdd(pb, L));
+  if (sum == 0) return 0.0;  // exact cancellation: +0, as IEEE's round-to-nearest
+  const uint64_t magnitude = uint64_t(sum < 0 ? -sum : sum);
+  if (int(std::bit_width(magnitude)) < t.p + 2) {  // the sticky bit is not used: truncate
+    sum /= 2;
+    ++L;
+  }
+  return std::ldexp(double(sum), L);  // exact: |sum| < 2^(p+6)
+}
+
+void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant, const glm::vec4& source, unsigned mask,
+                uint8_t* texel) {
+  const FloatTarget t{f.encoding() == ChannelEncoding::Float32 ? 24 : 11, f.encoding() == ChannelEncoding::Float32};
+  const glm::vec4 stored = decodeTexel(f, texel);
+  glm::vec4 s(0.0f), k(0.0f), d(0.0f);
+  for (int c = 0; c < 4; ++c) {
+    s[c] = t.fp32 ? daz(source[c]) : toHalfTowardZero(source[c]);
+    k[c] = t.fp32 ? daz(constant[c]) : toHalfTowardZero(constant[c]);
+    d[c] = t.fp32 ? daz(stored[c]) : stored[c];
+  }
+  const float da = f.hasAlpha() ? d[3] : 1.0f;
+  auto factor = [&](BlendFactor factor, int lane) -> float {
+    const float dLane = lane < 3 ? d[lane] : da;
+    switch (factor) {
+      case BlendFactor::Zero: return 0.0f;
+      case BlendFactor::One: return 1.0f;
+      case BlendFactor::SrcColor: return s[lane];
+      case BlendFactor::OneMinusSrcColor: return oneMinus(t, s[lane]);
+      case BlendFactor::DstColor: return dLane;
+      case BlendFactor::OneMinusDstColor: return oneMinus(t, dLane);
+      case BlendFactor::SrcAlpha: return s[3];
+      case BlendFactor::OneMinusSrcAlpha: return oneMinus(t, s[3]);
+      case BlendFactor::DstAlpha: return da;
+      case BlendFactor::OneMinusDstAlpha: return oneMinus(t, da);
+      case BlendFactor::ConstantColor: return k[lane];
+      case BlendFactor::OneMinusConstantColor: return oneMinus(t, k[lane]);
+      case BlendFactor::ConstantAlpha: return k[3];
+      case BlendFactor::OneMinusConstantAlpha: return oneMinus(t, k[3]);
+      case BlendFactor::SrcAlphaSaturate: {
+        if (lane == 3) return 1.0f;
+        const float b = oneMinus(t, da);
+        return s[3] < b ? s[3] : b;
+      }
+    }
+    return 0.0f;
+  };
+  glm::vec4 out = stored;
+  for (int c = 0; c < f.channels; ++c) {
+    const bool alpha = c == 3;
+    const BlendEquation eq = alpha ? st.equationAlpha : st.equationRgb;
+    const float dc = alpha ? da : d[c];
+    double value;
+    if (isMinMax(eq)) {
+      // −0 orders below +0; the operands are values of the format already.
+      const bool sBelow = s[c] < dc || (s[c] == dc && std::signbit(s[c]) && !std::signbit(dc));
+      value = (eq == BlendEquation::Min) == sBelow ? s[c] : dc;
+    } else {
+      const BlendFactor sf = alpha ? st.srcAlpha : st.srcRgb, df = alpha ? st.dstAlpha : st.dstRgb;
+      const Term a{s[c], factor(sf, c), eq == BlendEquation::ReverseSubtract};
+      const Term b{dc, factor(df, c), eq == BlendEquation::Subtract};
+      // Sign of a sum of two exact zeros (docs/rules.md): the destination term's when the
+      // destination value is zero and its factor is not, else the source term's.
+      bool zeroNegative;
+      if (b.value == 0.0f && b.factor != 0.0f)
+        zeroNegative = (std::signbit(b.value) != std::signbit(b.factor)) != b.negate;
+      else
+        zeroNegative =
+            (std::signbit(a.value) != (sf == BlendFactor::DstColor && a.factor != 0.0f ? false : std::signbit(a.factor))) != a.negate;
+      value = twoProductSum(t, a, b, zeroNegative);
+    }
+    if (t.fp32) {
+      const float r = float(value);
+      out[c] = std::fabs(r) < 0x1p-126f ? std::copysign(0.0f, r) : r;  // FTZ
+    } else {
+      out[c] = toHalfNearest(value);  // r11g11b10f: encodeTexel then narrows toward zero
+    }
+  }
+  uint8_t encoded[16];
+  encodeTexel(f, out, nvidiaProfile(), encoded);
+  mergeTexelChannels(f, encoded, texel, mask);
+}
+
+}  // namespace
+
+void blendNvidia(const Format& format, const BlendState& state, const glm::vec4& constant, const glm::vec4& source,
+                 unsigned mask, uint8_t* texel) {
+  if (format.isUnorm()) blendUnorm(format, state, constant, source, mask, texel);
+  else blendFloat(format, state, constant, source, mask, texel);
+}
+
+}  // namespace oitref::detail

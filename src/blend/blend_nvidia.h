@@ -1,0 +1,41 @@
+// NVIDIA Hopper's blender (profile nvidia). Every rule below was found on recorded GPU results
+// (an H200 and an H100, driver 580.159.04; the cases and the experiments that pin each rule are in
+// docs/rules.md, "Profile nvidia", and tests/data/nvidia/).
+//
+// UNORM targets (r8…rgba8, r16…rgba16, rgb10a2) blend exactly on b-bit codes:
+//  * source and constant are converted like a stored value (UnormRounding::NvidiaFixed); every
+//    rgb10a2 channel, alpha included, is a 10-bit code (a stored 2-bit alpha a reads as 341·a);
+//  * factors are codes too: 1 − x is (2^b − 1) − x, SRC_ALPHA_SATURATE min(As, (2^b − 1) − Ad);
+//  * the result is the exact s·Sf ± d·Df divided by (2^b − 1)², clamped to [0, 1] and rounded to
+//    the nearest code (no ties exist); MIN/MAX compare codes; rgb10a2's alpha is then narrowed to
+//    two bits (nvidiaAlpha2From10).
+// Float targets blend in their own precision p: 24 bits for r32f…rgba32f, 11 for r16f…rgba16f and
+// r11g11b10f (whose source and constant are first converted to fp16, rounding toward zero):
+//  * fp32 operands are read with denormals as zero (DAZ) and denormal results are flushed (FTZ);
+//  * 1 − x is rounded to p bits (nearest even); SRC_ALPHA_SATURATE is min(As, 1 − Ad);
+//  * the two products s·Sf and d·Df are exact; each is rounded to odd at the position 2^(e−p−4),
+//    e being the larger of the two products' exponent estimates exp(x) + exp(y) (frexp exponents:
+//    the product lies in [2^(e−2), 2^e)); the sum T of the two is exact; if T needs fewer than p + 2
+//    bits on that grid, its last bit (the sticky) is dropped, else it is rounded to nearest even
+//    — to p bits, or to the format's denormal grid (fp16); the r11g11b10f channels then take that
+//    fp16 value toward zero;
+//  * a sum of two exact zeros takes the sign of the destination term when the destination value
+//    is zero and its factor is not, else the sign of the source term (whose DST_COLOR factor
+//    contributes its sign only when it is zero); x − x is +0;
+//  * MIN/MAX return an operand (−0 below +0).
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+#include "oitref/blend_state.h"
+#include "oitref/format.h"
+
+namespace oitref::detail {
+
+// Blends `source` into the texel; channels outside `mask` keep their bits. `state.enabled`.
+void blendNvidia(const Format& format, const BlendState& state, const glm::vec4& constant, const glm::vec4& source,
+                 unsigned mask, uint8_t* texel);
+
+}  // namespace oitref::detail
