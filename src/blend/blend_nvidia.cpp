@@ -92,14 +92,23 @@ void blendUnorm(const Format& f, const BlendState& st, const glm::vec4& constant
 struct FloatTarget {
   int p;            // significand bits of the blend arithmetic
   bool fp32;        // DAZ/FTZ; else fp16 arithmetic (r11g11b10f narrows afterwards)
+  int minExponent;  // exponent of the smallest denormal's last place (fp16: −24)
 };
 
 float daz(float x) { return std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
 float toHalfTowardZero(float x) { return decodeHalf(encodeHalf(x, Rounding::TowardZero)); }
 float toHalfNearest(double x) { return decodeHalf(encodeHalf(float(x), Rounding::NearestEven)); }  // x has ≤ 24 bits
 
-// 1 − x in the blend precision.
-float oneMinus(const FloatTarget& t, float x) { return t.fp32 ? 1.0f - x : toHalfNearest(1.0 - double(x)); }
+const float kGpuNan = std::bit_cast<float>(0x7fffffffu);  // the NaN the GPU computes: every bit set but the sign
+
+// 1 − x in the blend precision; a NaN x gives the GPU's NaN (positive).
+float oneMinus(const FloatTarget& t, float x) {
+  if (std::isnan(x)) return kGpuNan;
+  return t.fp32 ? 1.0f - x : toHalfNearest(1.0 - double(x));
+}
+
+// IEEE minNum: a NaN operand loses to a number.
+float minNum(float a, float b) { return std::isnan(a) ? b : std::isnan(b) ? a : a < b ? a : b; }
 
 int exponentOf(double x) {
   int e = 0;
@@ -118,11 +127,13 @@ int64_t roundToOdd(double x, int L) {
 struct Term {
   float value, factor;
   bool negate;
+  bool folded;  // the factor is ZERO: the term is not computed
   double product() const {
+    if (zero()) return 0.0;  // zero times anything, inf and NaN included, is zero
     const double p = double(value) * double(factor);  // exact: at most 48 significant bits
     return negate ? -p : p;
   }
-  bool zero() const { return value == 0.0f || factor == 0.0f; }
+  bool zero() const { return folded || value == 0.0f || factor == 0.0f; }
 };
 
 // s·Sf ± d·Df as the blender sums it; `zeroSign` decides the sign of a sum of two exact zeros.
@@ -136,17 +147,44 @@ double twoProductSum(const FloatTarget& t, const Term& a, const Term& b, bool ze
   int L = e - (t.p + 4);
   int64_t sum = (a.zero() ? 0 : roundToOdd(pa, L)) + (b.zero() ? 0 : roundToOdd(pb, L));
   if (sum == 0) return 0.0;  // exact cancellation: +0, as IEEE's round-to-nearest
+  // The result's last place: p bits below its leading bit, or the format's denormal grid. When it
+  // falls below L + 2 the sticky bit is not used: the sum is truncated.
   const uint64_t magnitude = uint64_t(sum < 0 ? -sum : sum);
-  if (int(std::bit_width(magnitude)) < t.p + 2) {  // the sticky bit is not used: truncate
+  const int lastPlace = std::max(L + int(std::bit_width(magnitude)) - t.p, t.minExponent);
+  if (lastPlace < L + 2) {
     sum /= 2;
     ++L;
   }
   return std::ldexp(double(sum), L);  // exact: |sum| < 2^(p+6)
 }
 
+// The GPU skips the blend, leaving every bit of the destination as it was, when the source cannot
+// change a destination in [0, 1]: in every written channel the equation adds or reverse-subtracts,
+// the source term is zero (factor ZERO, a zero source value, or a source-alpha factor with As = 0)
+// and the destination factor is one (ONE, or ONE_MINUS_SRC_ALPHA / _COLOR of a zero source).
+// Visible only where the destination holds values outside [0, 1], infinities or NaN.
+bool leavesDestination(const Format& f, const BlendState& st, const glm::vec4& s, const glm::vec4& k) {
+  const bool alphaZero = s[3] == 0.0f;
+  for (int c = 0; c < 4; ++c)
+    if (std::isnan(s[c]) || std::isinf(s[c]) || std::isnan(k[c]) || std::isinf(k[c])) return false;
+  for (int c = 0; c < f.channels; ++c) {
+    const bool alpha = c == 3;
+    const BlendEquation eq = alpha ? st.equationAlpha : st.equationRgb;
+    const BlendFactor sf = alpha ? st.srcAlpha : st.srcRgb, df = alpha ? st.dstAlpha : st.dstRgb;
+    if (eq != BlendEquation::Add && eq != BlendEquation::ReverseSubtract) return false;
+    const bool sourceZero = sf == BlendFactor::Zero || s[c] == 0.0f ||
+                            ((sf == BlendFactor::SrcAlpha || (sf == BlendFactor::SrcAlphaSaturate && !alpha)) && alphaZero);
+    const bool destinationOne = df == BlendFactor::One || (df == BlendFactor::OneMinusSrcAlpha && alphaZero) ||
+                                (df == BlendFactor::OneMinusSrcColor && s[c] == 0.0f);
+    if (!sourceZero || !destinationOne) return false;
+  }
+  return true;
+}
+
 void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant, const glm::vec4& source, unsigned mask,
                 uint8_t* texel) {
-  const FloatTarget t{f.encoding() == ChannelEncoding::Float32 ? 24 : 11, f.encoding() == ChannelEncoding::Float32};
+  const bool fp32 = f.encoding() == ChannelEncoding::Float32;
+  const FloatTarget t{fp32 ? 24 : 11, fp32, fp32 ? -149 : -24};
   const glm::vec4 stored = decodeTexel(f, texel);
   glm::vec4 s(0.0f), k(0.0f), d(0.0f);
   for (int c = 0; c < 4; ++c) {
@@ -174,12 +212,13 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
       case BlendFactor::OneMinusConstantAlpha: return oneMinus(t, k[3]);
       case BlendFactor::SrcAlphaSaturate: {
         if (lane == 3) return 1.0f;
-        const float b = oneMinus(t, da);
-        return s[3] < b ? s[3] : b;
+        return minNum(s[3], oneMinus(t, da));
       }
     }
     return 0.0f;
   };
+  if (leavesDestination(f, st, s, k)) return;
+  const bool sourceRgbZero = s[0] == 0.0f && s[1] == 0.0f && s[2] == 0.0f;
   glm::vec4 out = stored;
   for (int c = 0; c < f.channels; ++c) {
     const bool alpha = c == 3;
@@ -187,24 +226,29 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
     const float dc = alpha ? da : d[c];
     double value;
     if (isMinMax(eq)) {
-      // −0 orders below +0; the operands are values of the format already.
+      // minNum/maxNum: a NaN operand loses to a number; −0 orders below +0.
       const bool sBelow = s[c] < dc || (s[c] == dc && std::signbit(s[c]) && !std::signbit(dc));
-      value = (eq == BlendEquation::Min) == sBelow ? s[c] : dc;
+      if (std::isnan(s[c])) value = dc;
+      else if (std::isnan(dc)) value = s[c];
+      else value = (eq == BlendEquation::Min) == sBelow ? s[c] : dc;
     } else {
       const BlendFactor sf = alpha ? st.srcAlpha : st.srcRgb, df = alpha ? st.dstAlpha : st.dstRgb;
-      const Term a{s[c], factor(sf, c), eq == BlendEquation::ReverseSubtract};
-      const Term b{dc, factor(df, c), eq == BlendEquation::Subtract};
+      const Term a{s[c], factor(sf, c), eq == BlendEquation::ReverseSubtract, sf == BlendFactor::Zero};
+      const Term b{dc, factor(df, c), eq == BlendEquation::Subtract, df == BlendFactor::Zero};
       // Sign of a sum of two exact zeros (docs/rules.md): the destination term's when the
       // destination value is zero and its factor is not, else the source term's.
       bool zeroNegative;
       if (b.value == 0.0f && b.factor != 0.0f)
         zeroNegative = (std::signbit(b.value) != std::signbit(b.factor)) != b.negate;
       else
-        zeroNegative =
-            (std::signbit(a.value) != (sf == BlendFactor::DstColor && a.factor != 0.0f ? false : std::signbit(a.factor))) != a.negate;
+        zeroNegative = (std::signbit(a.value) != (sf == BlendFactor::DstColor && a.factor != 0.0f && sourceRgbZero
+                                                      ? false
+                                                      : std::signbit(a.factor))) != a.negate;
       value = twoProductSum(t, a, b, zeroNegative);
     }
-    if (t.fp32) {
+    if (std::isnan(value)) {
+      out[c] = kGpuNan;
+    } else if (t.fp32) {
       const float r = float(value);
       out[c] = std::fabs(r) < 0x1p-126f ? std::copysign(0.0f, r) : r;  // FTZ
     } else {
