@@ -107,8 +107,12 @@ float oneMinus(const FloatTarget& t, float x) {
   return t.fp32 ? 1.0f - x : toHalfNearest(1.0 - double(x));
 }
 
-// IEEE minNum: a NaN operand loses to a number.
-float minNum(float a, float b) { return std::isnan(a) ? b : std::isnan(b) ? a : a < b ? a : b; }
+// IEEE minNum: a NaN operand loses to a number; −0 orders below +0.
+float minNum(float a, float b) {
+  if (std::isnan(a)) return b;
+  if (std::isnan(b)) return a;
+  return a < b || (a == b && std::signbit(a)) ? a : b;
+}
 
 int exponentOf(double x) {
   int e = 0;
@@ -165,8 +169,9 @@ double twoProductSum(const FloatTarget& t, const Term& a, const Term& b, bool ze
 // Visible only where the destination holds values outside [0, 1], infinities or NaN.
 bool leavesDestination(const Format& f, const BlendState& st, const glm::vec4& s, const glm::vec4& k) {
   const bool alphaZero = s[3] == 0.0f;
+  // A non-finite constant (any channel) or source (the target's channels, and alpha) prevents it.
   for (int c = 0; c < 4; ++c)
-    if (std::isnan(s[c]) || std::isinf(s[c]) || std::isnan(k[c]) || std::isinf(k[c])) return false;
+    if (!std::isfinite(k[c]) || ((c < f.channels || c == 3) && !std::isfinite(s[c]))) return false;
   for (int c = 0; c < f.channels; ++c) {
     const bool alpha = c == 3;
     const BlendEquation eq = alpha ? st.equationAlpha : st.equationRgb;
@@ -210,15 +215,17 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
       case BlendFactor::OneMinusConstantColor: return oneMinus(t, k[lane]);
       case BlendFactor::ConstantAlpha: return k[3];
       case BlendFactor::OneMinusConstantAlpha: return oneMinus(t, k[3]);
-      case BlendFactor::SrcAlphaSaturate: {
-        if (lane == 3) return 1.0f;
-        return minNum(s[3], oneMinus(t, da));
-      }
+      case BlendFactor::SrcAlphaSaturate:
+        return lane == 3 ? 1.0f : minNum(s[3], oneMinus(t, da));
     }
     return 0.0f;
   };
   if (leavesDestination(f, st, s, k)) return;
-  const bool sourceRgbZero = s[0] == 0.0f && s[1] == 0.0f && s[2] == 0.0f;
+  bool sourceColourZero = true;  // over the target's colour channels
+  for (int c = 0; c < std::min(f.channels, 3); ++c) sourceColourZero = sourceColourZero && s[c] == 0.0f;
+  // SRC_ALPHA_SATURATE as the colour destination factor is zero when As is zero and the alpha
+  // destination factor evaluates to zero (ZERO, or SRC_ALPHA / SRC_COLOR of that zero As).
+  const bool saturateDestinationZero = s[3] == 0.0f && factor(st.dstAlpha, 3) == 0.0f;
   glm::vec4 out = stored;
   for (int c = 0; c < f.channels; ++c) {
     const bool alpha = c == 3;
@@ -234,14 +241,15 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
     } else {
       const BlendFactor sf = alpha ? st.srcAlpha : st.srcRgb, df = alpha ? st.dstAlpha : st.dstRgb;
       const Term a{s[c], factor(sf, c), eq == BlendEquation::ReverseSubtract, sf == BlendFactor::Zero};
-      const Term b{dc, factor(df, c), eq == BlendEquation::Subtract, df == BlendFactor::Zero};
+      const float dstFactor = df == BlendFactor::SrcAlphaSaturate && !alpha && saturateDestinationZero ? 0.0f : factor(df, c);
+      const Term b{dc, dstFactor, eq == BlendEquation::Subtract, df == BlendFactor::Zero};
       // Sign of a sum of two exact zeros (docs/rules.md): the destination term's when the
       // destination value is zero and its factor is not, else the source term's.
       bool zeroNegative;
       if (b.value == 0.0f && b.factor != 0.0f)
         zeroNegative = (std::signbit(b.value) != std::signbit(b.factor)) != b.negate;
       else
-        zeroNegative = (std::signbit(a.value) != (sf == BlendFactor::DstColor && a.factor != 0.0f && sourceRgbZero
+        zeroNegative = (std::signbit(a.value) != (sf == BlendFactor::DstColor && a.factor != 0.0f && sourceColourZero
                                                       ? false
                                                       : std::signbit(a.factor))) != a.negate;
       value = twoProductSum(t, a, b, zeroNegative);
