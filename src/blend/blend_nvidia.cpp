@@ -221,8 +221,9 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
     return 0.0f;
   };
   if (leavesDestination(f, st, s, k)) return;
-  bool sourceColourZero = true;  // over the target's colour channels
-  for (int c = 0; c < std::min(f.channels, 3); ++c) sourceColourZero = sourceColourZero && s[c] == 0.0f;
+  // The shader's own colour (before any conversion) is exactly zero in the target's colour channels.
+  bool sourceColourZero = true;
+  for (int c = 0; c < std::min(f.channels, 3); ++c) sourceColourZero = sourceColourZero && source[c] == 0.0f;
   // SRC_ALPHA_SATURATE as the colour destination factor is zero when As is zero and the alpha
   // destination factor evaluates to zero (ZERO, or SRC_ALPHA / SRC_COLOR of that zero As).
   const bool saturateDestinationZero = s[3] == 0.0f && factor(st.dstAlpha, 3) == 0.0f;
@@ -249,7 +250,7 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
       if (b.value == 0.0f && b.factor != 0.0f)
         zeroNegative = (std::signbit(b.value) != std::signbit(b.factor)) != b.negate;
       else
-        zeroNegative = (std::signbit(a.value) != (sf == BlendFactor::DstColor && a.factor != 0.0f && sourceColourZero
+        zeroNegative = (std::signbit(a.value) != (sf == BlendFactor::DstColor && sourceColourZero
                                                       ? false
                                                       : std::signbit(a.factor))) != a.negate;
       value = twoProductSum(t, a, b, zeroNegative);
