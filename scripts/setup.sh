@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake ninja-build libglm-dev libembree-dev libtbb-dev
           libopenimageio-dev openimageio-tools libimath-dev catch2 libcli11-dev
-          libassimp-dev nlohmann-json3-dev
+          libassimp-dev nlohmann-json3-dev zlib1g-dev
           libegl-dev libgl-dev libegl1 libegl-mesa0 libgl1-mesa-dri  # glcheck: Mesa's llvmpipe
           clang libclang-rt-14-dev                                   # CI: sanitizers, libFuzzer
           chromium fonts-dejavu-core)                                # tests: the study report in a real browser
