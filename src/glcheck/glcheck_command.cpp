@@ -144,7 +144,7 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
   blend->add_flag("--nonfinite", b->nonFinite, "Generate NaN and infinities too");
   blend->add_option("--write-cases", b->writeCases, "Also write the cases as CSV (for `oitref blend --cases`)");
   blend->add_option("--results", b->results, "Write every case with GL's and oitref's bits as CSV");
-  blend->add_option("--profile", b->profile, "oitref profile to compare with")->capture_default_str();
+  tools::addProfileOption(blend, b->profile, "oitref profile to compare with");
   blend->add_option("--list", b->list, "How many mismatches to list")->capture_default_str();
   blend->callback([b, &exitCode] { exitCode = runReportingErrors("glcheck blend", [&] { return glcheck::runBlendCheck(*b); }); });
 
@@ -156,7 +156,7 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
   scene->add_option("scenes", s->options.scenes, "Scene files (default: every scenes/*.json)");
   scene->add_option("--methods", s->methods, "Comma-separated methods (default: " + methodList + ")");
   scene->add_option("--size", s->size, "Resolution WxH, or 'scene' for the scene's own")->capture_default_str();
-  scene->add_option("--profile", s->options.profile, "oitref profile to compare with")->capture_default_str();
+  tools::addProfileOption(scene, s->options.profile, "oitref profile to compare with");
   scene->add_option("--tolerance", s->options.tolerance, "Per-pixel error allowed on the RGBA8 image (default 1.5/255: one step passes, two fail)");
   scene->add_option("--min-share", s->options.minShare, "Share of pixels within tolerance a method needs")
       ->capture_default_str()

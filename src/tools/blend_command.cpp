@@ -123,7 +123,7 @@ void addBlendCommand(CLI::App& app, int& exitCode) {
                   "CSV file of cases ('-' for stdin); results as CSV on stdout, or, when the file has gpu_dst_bits and "
                   "gpu_result_bits columns (oitref-gpu-capture), the share of bit-equal texels and exit status 1 on any difference");
   cmd->add_option("--list", o->list, "With recorded GPU texels: how many mismatches to list")->capture_default_str();
-  cmd->add_option("--profile", o->profile, "exact | llvmpipe | nvidia, optionally with ,key=value overrides")->capture_default_str();
+  addProfileOption(cmd, o->profile);
   cmd->callback([o, &exitCode] {
     exitCode = runReportingErrors("blend", [&] {
       return o->cases.empty() ? runSingle(*o) : runBatch(*o);

@@ -33,6 +33,12 @@ inline uint64_t memoryLimitFrom(const std::string& text) {
   return text.empty() ? defaultMemoryLimit() : parseByteSize(text, "--memory-limit");
 }
 
+// --profile, as every command that renders or blends takes it (oitref/profile.h).
+inline CLI::Option* addProfileOption(CLI::App* cmd, std::string& text, const char* what = "Profile") {
+  return cmd->add_option("--profile", text, std::string(what) + ": exact | llvmpipe | nvidia, optionally with ,key=value overrides")
+      ->capture_default_str();
+}
+
 void addBlendCommand(CLI::App& app, int& exitCode);
 void addCompareCommand(CLI::App& app, int& exitCode);
 void addDemoCommand(CLI::App& app, int& exitCode);

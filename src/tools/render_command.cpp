@@ -98,7 +98,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--set", o->sets, "Method option key=value (repeatable)");
   cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
   cmd->add_option("--size", o->size, "Override the scene's resolution, WxH");
-  cmd->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
+  addProfileOption(cmd, o->profile);
   cmd->add_option("--out", o->out, "Output image: .exr (float RGBA) or .png (the final RGBA8 bits)");
   cmd->add_option("--dump", o->dump, "Write every colour attachment into this folder");
   cmd->add_option("--repeat", o->repeat, "Render N times, report the median frame time")->check(CLI::Range(1, 1000));

@@ -73,7 +73,7 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--size", o->size, "Override the scenes' resolution, WxH");
   cmd->add_option("--runs", o->runs, "Timed runs per configuration, after one warm-up")->capture_default_str();
   cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
-  cmd->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
+  addProfileOption(cmd, o->profile);
   cmd->add_option("--heatmap-scale", o->heatmapScale, "Error drawn white in the heatmaps")->capture_default_str();
   cmd->add_flag("--quiet", o->quiet, "No progress on stderr");
   addMemoryLimitOption(cmd, o->memoryLimit);

@@ -29,7 +29,7 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   suite->add_option("--out", o->out, "Write every image into this folder");
   suite->add_option("--size", o->size, "Override the scenes' resolution, WxH");
   suite->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
-  suite->add_option("--profile", o->profile, "exact | llvmpipe")->capture_default_str();
+  addProfileOption(suite, o->profile);
   addMemoryLimitOption(suite, o->memoryLimit);
   suite->callback([o, &exitCode] {
     exitCode = runReportingErrors("suite", [&] {
