@@ -92,6 +92,7 @@ GlContext::GlContext() : egl_(std::make_unique<Egl>()) {
   if (!gl_.name) throw std::runtime_error("the OpenGL driver lacks gl" #name);
   OITREF_GL_FUNCTIONS(OITREF_GL_LOAD)
 #undef OITREF_GL_LOAD
+  driver_ = gl_;
 }
 
 GlContext::~GlContext() {

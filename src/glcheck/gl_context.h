@@ -19,6 +19,10 @@ class GlContext {
   GlContext& operator=(const GlContext&) = delete;
 
   const GlFunctions& gl() const { return gl_; }
+  // The driver's own entry points, and a table to use instead of them from now on (a recording
+  // or substituting one, gpucapture/gl_trace.h).
+  const GlFunctions& driver() const { return driver_; }
+  void setFunctions(const GlFunctions& functions) { gl_ = functions; }
   std::string renderer() const;   // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string version() const;    // GL_VERSION
   std::string vendor() const;     // GL_VENDOR
@@ -30,7 +34,7 @@ class GlContext {
  private:
   struct Egl;
   std::unique_ptr<Egl> egl_;
-  GlFunctions gl_;
+  GlFunctions gl_, driver_;
   std::string platform_;
 };
 

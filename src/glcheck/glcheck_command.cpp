@@ -10,6 +10,7 @@
 #include "glcheck/gl_context.h"
 #include "glcheck/gl_methods.h"
 #include "glcheck/scene_check.h"
+#include "gpucapture/gl_trace.h"
 #include "tools/blend_case_generator.h"
 #include "tools/commands.h"
 #include "tools/image_io.h"
@@ -98,7 +99,7 @@ int runBlendCheck(const BlendCheckOptions& o) {
 
 struct SceneCheckCommand {
   SceneCheckOptions options;
-  std::string size = "160x90", methods, memoryLimit;
+  std::string size = "160x90", methods, memoryLimit, recordTrace, gpuReads;
 };
 
 int runSceneCheckCommand(SceneCheckCommand& c) {
@@ -115,10 +116,31 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
+  if (!c.recordTrace.empty() && !c.gpuReads.empty())
+    throw std::invalid_argument("--record-trace and --gpu-reads: one at a time (record here, replay there, compare here)");
   GlContext context;
   printDriver(context);
+  // Whole frames on another machine's GPU: record every GL call here, replay it there with
+  // oitref-gpu-capture, then compare with the texels it read (gpucapture/gl_trace.h).
+  std::ofstream trace;
+  std::ifstream reads;
+  if (!c.recordTrace.empty()) {
+    trace.open(c.recordTrace, std::ios::binary);
+    if (!trace) throw std::runtime_error("cannot write '" + c.recordTrace + "'");
+    context.setFunctions(recordingFunctions(context.driver(), trace));
+    std::cout << "recording every GL call into " << c.recordTrace << " (replay: oitref-gpu-capture frames)\n";
+  }
+  if (!c.gpuReads.empty()) {
+    reads.open(c.gpuReads, std::ios::binary);
+    if (!reads) throw std::runtime_error("cannot read '" + c.gpuReads + "'");
+    context.setFunctions(substitutingFunctions(context.driver(), reads));
+    std::cout << "GL texels: those recorded in " << c.gpuReads << " (replayed on another machine's GPU), not this driver's\n";
+  }
   std::cout << "\n";
   const std::vector<SceneCheckRow> rows = runSceneCheck(context, o, std::cout);
+  if (reads && reads.peek() != std::char_traits<char>::eof())
+    throw std::runtime_error("'" + c.gpuReads + "' holds more reads than these frames make (recorded with other options?)");
+  if (trace && !trace.flush()) throw std::runtime_error("writing '" + c.recordTrace + "' failed");
   size_t failed = 0;
   for (const SceneCheckRow& r : rows) failed += !r.pass;
   std::cout << rows.size() - failed << " of " << rows.size() << " scene × method pairs within tolerance\n";
@@ -163,6 +185,10 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::Range(0.0, 1.0));
   tools::addMemoryLimitOption(scene, s->memoryLimit);
   scene->add_option("--heatmaps", s->options.heatmaps, "Write GL and oitref images and error heatmaps into this folder");
+  scene->add_option("--record-trace", s->recordTrace,
+                    "Also record every GL call into this file, for oitref-gpu-capture frames on a GPU machine");
+  scene->add_option("--gpu-reads", s->gpuReads,
+                    "Compare with the texels oitref-gpu-capture frames read on a GPU (same scenes and options as the recording)");
   scene->callback([s, &exitCode] {
     exitCode = runReportingErrors("glcheck scene", [&] { return glcheck::runSceneCheckCommand(*s); });
   });

@@ -27,6 +27,7 @@
 
 #include "glcheck/gl_context.h"
 #include "gpucapture/blend_capture.h"
+#include "gpucapture/gl_trace.h"
 
 namespace {
 
@@ -197,15 +198,33 @@ int runBlend(const char* inPath, const char* outPath) {
 
 }  // namespace
 
+int runFrames(const char* tracePath, const char* outPath) {
+  std::ifstream trace(tracePath, std::ios::binary);
+  if (!trace) throw std::runtime_error(std::string("cannot read '") + tracePath + "'");
+  std::ofstream out(outPath, std::ios::binary);
+  if (!out) throw std::runtime_error(std::string("cannot write '") + outPath + "'");
+  oitref::glcheck::GlContext context;
+  std::cerr << "GL: " << context.vendor() << " | " << context.renderer() << " | " << context.version() << "\n";
+  const size_t calls = oitref::glcheck::replayTrace(context.gl(), trace, out);
+  if (!out.flush()) throw std::runtime_error(std::string("writing '") + outPath + "' failed");
+  std::cerr << calls << " GL calls replayed; reads in " << outPath << "\n";
+  return 0;
+}
+
 int main(int argc, char** argv) {
-  if (argc != 4 || std::strcmp(argv[1], "blend") != 0) {
+  const bool blend = argc == 4 && std::strcmp(argv[1], "blend") == 0;
+  const bool frames = argc == 4 && std::strcmp(argv[1], "frames") == 0;
+  if (!blend && !frames) {
     std::cerr << "usage: oitref-gpu-capture blend CASES.csv OUT.csv\n"
                  "  runs each case on this machine's GPU (headless EGL) and writes CASES.csv's lines with\n"
-                 "  gpu_dst_bits and gpu_result_bits added (compare with `oitref blend --cases OUT.csv`)\n";
+                 "  gpu_dst_bits and gpu_result_bits added (compare with `oitref blend --cases OUT.csv`)\n"
+                 "       oitref-gpu-capture frames TRACE READS\n"
+                 "  replays a GL trace (`oitref glcheck scene --record-trace`) and writes every read's texels\n"
+                 "  (compare with `oitref glcheck scene ... --gpu-reads READS`)\n";
     return 2;
   }
   try {
-    return runBlend(argv[2], argv[3]);
+    return blend ? runBlend(argv[2], argv[3]) : runFrames(argv[2], argv[3]);
   } catch (const std::exception& e) {
     std::cerr << "oitref-gpu-capture: " << e.what() << "\n";
     return 1;
