@@ -120,19 +120,34 @@ void GlContext::check(const char* what) const {
   }
 }
 
+void requireCompiled(const GlFunctions& gl, unsigned shader, const std::string& what) {
+  GLint ok = 0;
+  gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (ok) return;
+  char log[4096] = {};
+  gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
+  throw std::runtime_error(what + " does not compile:\n" + log);
+}
+
+void requireLinked(const GlFunctions& gl, unsigned program, const std::string& what) {
+  GLint ok = 0;
+  gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (ok) return;
+  char log[4096] = {};
+  gl.GetProgramInfoLog(program, sizeof log, nullptr, log);
+  throw std::runtime_error(what + " does not link:\n" + log);
+}
+
 static unsigned compile(const GlFunctions& gl, GLenum type, const std::string& source) {
   const GLuint s = gl.CreateShader(type);
   const char* text = source.c_str();
   gl.ShaderSource(s, 1, &text, nullptr);
   gl.CompileShader(s);
-  GLint ok = 0;
-  gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+  try {
+    requireCompiled(gl, s, type == GL_VERTEX_SHADER ? "vertex shader" : "fragment shader");
+  } catch (...) {
     gl.DeleteShader(s);
-    throw std::runtime_error(std::string(type == GL_VERTEX_SHADER ? "vertex" : "fragment") +
-                             " shader does not compile:\n" + log);
+    throw;
   }
   return s;
 }
@@ -145,13 +160,11 @@ unsigned linkProgram(const GlFunctions& gl, const std::string& vertex, const std
   gl.LinkProgram(p);
   gl.DeleteShader(vs);
   gl.DeleteShader(fs);
-  GLint ok = 0;
-  gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
+  try {
+    requireLinked(gl, p, "program");
+  } catch (...) {
     gl.DeleteProgram(p);
-    throw std::runtime_error(std::string("program does not link:\n") + log);
+    throw;
   }
   return p;
 }

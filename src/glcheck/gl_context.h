@@ -38,6 +38,10 @@ class GlContext {
   std::string platform_;
 };
 
+// Throw with the info log, naming `what`, when a shader did not compile / a program did not link.
+void requireCompiled(const GlFunctions& gl, unsigned shader, const std::string& what);
+void requireLinked(const GlFunctions& gl, unsigned program, const std::string& what);
+
 // Compiles and links a program from GLSL sources (vertex + fragment); throws with the info log.
 unsigned linkProgram(const GlFunctions& gl, const std::string& vertex, const std::string& fragment);
 

@@ -1,5 +1,7 @@
 #include "gpucapture/gl_trace.h"
 
+#include "glcheck/gl_context.h"
+
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -489,13 +491,7 @@ size_t replayTrace(const GlFunctions& driver, std::istream& trace, std::ostream&
       case Op::CompileShader: {
         const GLuint sh = Replay::mapped(s.shaders, r.get<GLuint>(), "shader");
         gl.CompileShader(sh);
-        GLint ok = 0;
-        gl.GetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-        if (!ok) {
-          char log[4096] = {};
-          gl.GetShaderInfoLog(sh, sizeof log, nullptr, log);
-          throw std::runtime_error(std::string("a traced shader does not compile here:\n") + log);
-        }
+        requireCompiled(gl, sh, "a traced shader");
         break;
       }
       case Op::DeleteShader: {
@@ -513,13 +509,7 @@ size_t replayTrace(const GlFunctions& driver, std::istream& trace, std::ostream&
       case Op::LinkProgram: {
         const GLuint p = Replay::mapped(s.programs, r.get<GLuint>(), "program");
         gl.LinkProgram(p);
-        GLint ok = 0;
-        gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-        if (!ok) {
-          char log[4096] = {};
-          gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
-          throw std::runtime_error(std::string("a traced program does not link here:\n") + log);
-        }
+        requireLinked(gl, p, "a traced program");
         break;
       }
       case Op::DeleteProgram: {

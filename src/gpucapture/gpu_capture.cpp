@@ -27,6 +27,7 @@
 
 #include "glcheck/gl_context.h"
 #include "gpucapture/blend_capture.h"
+#include "gpucapture/csv_fields.h"
 #include "gpucapture/gl_trace.h"
 
 namespace {
@@ -70,19 +71,6 @@ const GLenum kGlFactors[] = {GL_ZERO, GL_ONE, GL_SRC_COLOR, GL_ONE_MINUS_SRC_COL
 const char* const kInputColumns[19] = {"format",  "eq_rgb",  "eq_alpha", "src_rgb", "dst_rgb", "src_alpha", "dst_alpha",
                                        "const_r", "const_g", "const_b",  "const_a", "dst_r",   "dst_g",     "dst_b",
                                        "dst_a",   "src_r",   "src_g",    "src_b",   "src_a"};
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> f;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) f.push_back(field);
-  if (!line.empty() && line.back() == ',') f.emplace_back();
-  for (auto& s : f) {
-    const size_t b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t\r");
-    s = b == std::string::npos ? "" : s.substr(b, e - b + 1);
-  }
-  return f;
-}
 
 template <size_t N>
 size_t indexOf(const char* const (&names)[N], const std::string& s, const char* what) {
@@ -132,7 +120,7 @@ int runBlend(const char* inPath, const char* outPath) {
   std::string line;
   if (!std::getline(in, line)) throw std::runtime_error(std::string(inPath) + ": empty file (a header line is needed)");
   if (!line.empty() && line.back() == '\r') line.pop_back();
-  const std::vector<std::string> header = split(line);
+  const std::vector<std::string> header = oitref::splitCsvFields(line);
   size_t column[19];
   for (int i = 0; i < 19; ++i) {
     size_t j = 0;
@@ -152,7 +140,7 @@ int runBlend(const char* inPath, const char* outPath) {
     ++lineNo;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
-    const std::vector<std::string> f = split(line);
+    const std::vector<std::string> f = oitref::splitCsvFields(line);
     try {
       if (f.size() != header.size())
         throw std::invalid_argument(std::to_string(f.size()) + " fields where the header has " + std::to_string(header.size()));

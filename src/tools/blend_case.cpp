@@ -5,6 +5,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "gpucapture/csv_fields.h"
 #include "oitref/blend.h"
 #include "tools/number_parse.h"
 
@@ -32,19 +33,10 @@ std::string blendCsvHeader(bool withResults) {
 }
 
 BlendCase parseBlendCsvLine(const std::string& line) {
-  std::vector<std::string> f;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) f.push_back(field);
-  if (!line.empty() && line.back() == ',') f.emplace_back();
+  const std::vector<std::string> f = splitCsvFields(line);
   if (f.size() != 19)
     throw BlendCsvError(int(std::min<size_t>(f.size(), 19)) + (f.size() < 19 ? 1 : 0),
                         "expected 19 fields, found " + std::to_string(f.size()));
-  for (auto& s : f) {  // trim
-    const size_t e = s.find_last_not_of(" \t\r");
-    s.erase(e == std::string::npos ? 0 : e + 1);
-    s.erase(0, s.find_first_not_of(" \t\r") == std::string::npos ? s.size() : s.find_first_not_of(" \t\r"));
-  }
   BlendCase c;
   auto guard = [&](int col, auto&& parse) {
     try {

@@ -1,5 +1,7 @@
 #include "tools/blend_comparison.h"
 
+#include "gpucapture/csv_fields.h"
+
 #include <cstdio>
 #include <cstring>
 #include <istream>
@@ -88,15 +90,6 @@ BlendComparison compareBlendCases(const std::vector<BlendCase>& cases, const std
 
 namespace {
 
-std::vector<std::string> splitFields(const std::string& line) {
-  std::vector<std::string> f;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) f.push_back(field);
-  if (!line.empty() && line.back() == ',') f.emplace_back();
-  return f;
-}
-
 // Inverse of texelBitsToString: hex words per channel, or one word for packed formats.
 bool parseTexelBits(const Format& f, const std::string& text, uint8_t* texel) {
   std::istringstream in(text);
@@ -114,10 +107,9 @@ bool parseTexelBits(const Format& f, const std::string& text, uint8_t* texel) {
 }  // namespace
 
 bool hasRecordedColumns(const std::string& headerLine) {
-  const auto h = splitFields(headerLine);
+  const auto h = splitCsvFields(headerLine);
   bool dst = false, result = false;
-  for (auto s : h) {
-    while (!s.empty() && (s.back() == '\r' || s.back() == ' ')) s.pop_back();
+  for (const std::string& s : h) {
     dst |= s == "gpu_dst_bits";
     result |= s == "gpu_result_bits";
   }
@@ -131,7 +123,7 @@ int readRecordedCases(std::istream& in, std::ostream& err, const std::string& so
     return 1;
   }
   if (!line.empty() && line.back() == '\r') line.pop_back();
-  const std::vector<std::string> header = splitFields(line);
+  const std::vector<std::string> header = splitCsvFields(line);
   auto column = [&](const std::string& name) {
     for (size_t j = 0; j < header.size(); ++j)
       if (header[j] == name) return j;
@@ -146,7 +138,7 @@ int readRecordedCases(std::istream& in, std::ostream& err, const std::string& so
     ++lineNo;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
-    const std::vector<std::string> f = splitFields(line);
+    const std::vector<std::string> f = splitCsvFields(line);
     auto report = [&](size_t col, const std::string& what) {
       ++bad;
       err << sourceName << ": line " << lineNo << ", column " << col + 1 << " ("
