@@ -140,7 +140,7 @@ struct Term {
   bool zero() const { return folded || value == 0.0f || factor == 0.0f; }
 };
 
-// s·Sf ± d·Df as the blender sums it; `zeroSign` decides the sign of a sum of two exact zeros.
+// s·Sf ± d·Df as the blender sums it; `zeroNegative` is the sign of a sum of two exact zeros.
 double twoProductSum(const FloatTarget& t, const Term& a, const Term& b, bool zeroNegative) {
   const double pa = a.product(), pb = b.product();
   if (!std::isfinite(pa) || !std::isfinite(pb) || std::isnan(pa + pb)) return pa + pb;

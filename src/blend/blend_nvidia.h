@@ -12,17 +12,23 @@
 // Float targets blend in their own precision p: 24 bits for r32f…rgba32f, 11 for r16f…rgba16f and
 // r11g11b10f (whose source and constant are first converted to fp16, rounding toward zero):
 //  * fp32 operands are read with denormals as zero (DAZ) and denormal results are flushed (FTZ);
-//  * 1 − x is rounded to p bits (nearest even); SRC_ALPHA_SATURATE is min(As, 1 − Ad);
+//  * 1 − x is rounded to p bits (nearest even; a NaN x gives +NaN); SRC_ALPHA_SATURATE is
+//    minNum(As, 1 − Ad) with −0 below +0 — as the colour destination factor it is zero when As is
+//    zero and the alpha destination factor evaluates to zero;
+//  * zero times anything (inf, NaN) is zero; a ZERO factor is never evaluated;
 //  * the two products s·Sf and d·Df are exact; each is rounded to odd at the position 2^(e−p−4),
 //    e being the larger of the two products' exponent estimates exp(x) + exp(y) (frexp exponents:
-//    the product lies in [2^(e−2), 2^e)); the sum T of the two is exact; if T needs fewer than p + 2
-//    bits on that grid, its last bit (the sticky) is dropped, else it is rounded to nearest even
-//    — to p bits, or to the format's denormal grid (fp16); the r11g11b10f channels then take that
-//    fp16 value toward zero;
+//    the product lies in [2^(e−2), 2^e)); the sum T of the two is exact; if T's last place (p bits
+//    below its leading bit, or fp16's denormal grid) falls below 2^(e−p−2), its last bit (the
+//    sticky) is dropped, else it is rounded to nearest even; the r11g11b10f channels then take that
+//    fp16 value toward zero; NaN results are 0x7fffffff (0x7fff);
 //  * a sum of two exact zeros takes the sign of the destination term when the destination value
-//    is zero and its factor is not, else the sign of the source term (whose DST_COLOR factor
-//    contributes its sign only when it is zero); x − x is +0;
-//  * MIN/MAX return an operand (−0 below +0).
+//    is zero and its factor is not, else the sign of the source term, whose DST_COLOR factor keeps
+//    its sign out when the shader's colour is exactly zero in the target's colour channels;
+//    x − x is +0;
+//  * MIN/MAX are minNum/maxNum of the operands (−0 below +0);
+//  * the blend is skipped, every destination bit kept, when the source cannot change a destination
+//    in [0, 1] (leavesDestination in the .cpp).
 #pragma once
 
 #include <cstdint>
