@@ -221,9 +221,9 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
     return 0.0f;
   };
   if (leavesDestination(f, st, s, k)) return;
-  // The shader's own colour (before any conversion) is exactly zero in the target's colour channels.
+  // The source colour (as converted) is zero in the target's colour channels.
   bool sourceColourZero = true;
-  for (int c = 0; c < std::min(f.channels, 3); ++c) sourceColourZero = sourceColourZero && source[c] == 0.0f;
+  for (int c = 0; c < std::min(f.channels, 3); ++c) sourceColourZero = sourceColourZero && s[c] == 0.0f;
   // SRC_ALPHA_SATURATE as the colour destination factor is zero when As is zero and the alpha
   // destination factor evaluates to zero (ZERO, or SRC_ALPHA / SRC_COLOR of that zero As).
   const bool saturateDestinationZero = s[3] == 0.0f && factor(st.dstAlpha, 3) == 0.0f;

@@ -24,7 +24,7 @@
 //    fp16 value toward zero; NaN results are 0x7fffffff (0x7fff);
 //  * a sum of two exact zeros takes the sign of the destination term when the destination value
 //    is zero and its factor is not, else the sign of the source term, whose DST_COLOR factor keeps
-//    its sign out when the shader's colour is exactly zero in the target's colour channels;
+//    its sign out when the source colour (as converted) is zero in the target's colour channels;
 //    x − x is +0;
 //  * MIN/MAX are minNum/maxNum of the operands (−0 below +0);
 //  * the blend is skipped, every destination bit kept, when the source cannot change a destination
