@@ -1,6 +1,7 @@
 // `oitref glcheck`: checks oitref against a real OpenGL driver (headless, through EGL).
 //   glcheck blend  the blend cases of `oitref blend --cases`, or generated ones, bit for bit
 //   glcheck scene  scenes rendered by the GL version of each method, against `oitref render`
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -118,8 +119,21 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
   }
   if (!c.recordTrace.empty() && !c.gpuReads.empty())
     throw std::invalid_argument("--record-trace and --gpu-reads: one at a time (record here, replay there, compare here)");
+  // Side by side means the same thread count: llvmpipe reads LP_NUM_THREADS when the context starts.
+  if (o.threads > 0) {
+    const char* lp = std::getenv("LP_NUM_THREADS");
+    if (lp && std::string(lp) != std::to_string(o.threads))
+      throw std::invalid_argument("--threads " + std::to_string(o.threads) + " but LP_NUM_THREADS=" + lp +
+                                  ": give one thread count for both");
+    setenv("LP_NUM_THREADS", std::to_string(o.threads).c_str(), 1);
+  } else if (const char* lp = std::getenv("LP_NUM_THREADS")) {
+    o.threads = std::atoi(lp);
+    if (o.threads < 1) throw std::invalid_argument(std::string("LP_NUM_THREADS=") + lp + " is not a thread count");
+  }
   GlContext context;
   printDriver(context);
+  if (o.timeRuns > 0 && (!c.recordTrace.empty() || !c.gpuReads.empty()))
+    throw std::invalid_argument("--time measures this driver: not with --record-trace or --gpu-reads");
   // Whole frames on another machine's GPU: record every GL call here, replay it there with
   // oitref-gpu-capture, then compare with the texels it read (gpucapture/gl_trace.h).
   std::ofstream trace;
@@ -184,6 +198,12 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   tools::addMemoryLimitOption(scene, s->memoryLimit);
+  scene->add_option("--time", s->options.timeRuns,
+                    "Also time each method N times, oitref and GL alternated, with min/median wall and CPU ms and the ratio")
+      ->check(CLI::Range(1, 1000));
+  scene->add_option("--threads", s->options.threads,
+                    "oitref's threads, and llvmpipe's through LP_NUM_THREADS (default: LP_NUM_THREADS, else every hardware thread)")
+      ->check(CLI::Range(1, 1024));
   scene->add_option("--heatmaps", s->options.heatmaps, "Write GL and oitref images and error heatmaps into this folder");
   scene->add_option("--record-trace", s->recordTrace,
                     "Also record every GL call into this file, for oitref-gpu-capture frames on a GPU machine");

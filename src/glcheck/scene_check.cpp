@@ -51,6 +51,27 @@ void printRow(std::ostream& out, const SceneCheckRow& r) {
     out << "           non-finite pixels: RGBA8 " << p.nonFinitePixels << ", RGBA32F " << r.analysis.nonFinitePixels << "\n";
 }
 
+// Side by side, per method: min and median of wall and process CPU time, and oitref's cost as a
+// multiple of the driver's (median CPU and median wall), next to the bits it was timed on.
+void printTimings(std::ostream& out, const std::vector<SceneCheckRow>& rows, const SceneCheckOptions& o, int threads) {
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "  timing: %d runs each, alternated, after a warm run; %d thread(s) each; oitref's frame allocates "
+                "its attachments, GL's reuses one frame's (then glFinish)\n", o.timeRuns, threads);
+  out << line;
+  std::snprintf(line, sizeof line, "  %-8s %11s %9s %11s %12s %9s %11s %9s %6s   %s\n", "method", "oitref ms", "wall med",
+                "CPU med", "GL ms", "wall med", "CPU med", "CPU ×", "wall ×", "oitref sha256 (frame)");
+  out << "  (oitref ms and GL ms: minimum wall time)\n" << line;
+  for (const SceneCheckRow& r : rows) {
+    if (!r.timing) continue;
+    const TimingStats &a = r.timing->oitref, &b = r.timing->gl;
+    std::snprintf(line, sizeof line, "  %-8s %11.2f %9.2f %11.2f %12.2f %9.2f %11.2f %9.2f %6.2f   %s\n", r.method.c_str(),
+                  a.minWallMs, a.medianWallMs, a.medianCpuMs, b.minWallMs, b.medianWallMs, b.medianCpuMs,
+                  a.medianCpuMs / b.medianCpuMs, a.medianWallMs / b.medianWallMs, r.timing->sha256.substr(0, 16).c_str());
+    out << line;
+  }
+}
+
 }  // namespace
 
 std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCheckOptions& o, std::ostream& out) {
@@ -63,7 +84,7 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
       throw std::invalid_argument("method '" + m + "' has no GL version (valid: " + valid + ")");
     }
   if (!o.heatmaps.empty()) std::filesystem::create_directories(o.heatmaps);
-  Renderer renderer(RendererOptions{0, 64});
+  Renderer renderer(RendererOptions{o.threads, 64});
   std::vector<SceneCheckRow> rows;
   for (const std::string& path : o.scenes) {
     Scene scene = loadScene(path);
@@ -72,6 +93,7 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
     const FrameContext frame{scene, geometry, scene.width, scene.height, profile, renderer, o.memoryLimit};
     const std::string sceneName = tools::sceneName(path);
     printHeader(out, sceneName, scene.width, scene.height, profile, o);
+    const size_t firstRow = rows.size();
     for (const std::string& name : methodNames) {
       const std::unique_ptr<Method> method = makeMethod(name);
       checkMemory(*method, scene.width, scene.height, geometry, o.memoryLimit);
@@ -95,8 +117,11 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
         tools::writeImage(base.string() + "_oitref.png", ours.final8);
         tools::writeImage(base.string() + "_error.png", errorHeatmap(glPresented, ours.final8, kHeatmapScale));
       }
+      if (o.timeRuns > 0) row.timing = timeMethod(context, frame, *method, findGlMethod(name), options, o.timeRuns);
       rows.push_back(std::move(row));
     }
+    if (o.timeRuns > 0)
+      printTimings(out, std::vector<SceneCheckRow>(rows.begin() + ptrdiff_t(firstRow), rows.end()), o, renderer.threads());
     out << "\n";
   }
   if (!o.heatmaps.empty())

@@ -4,10 +4,12 @@
 #pragma once
 
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "glcheck/gl_context.h"
+#include "glcheck/scene_timing.h"
 #include "oitref/metrics.h"
 
 namespace oitref::glcheck {
@@ -25,6 +27,8 @@ struct SceneCheckOptions {
   double minShare = 0.99;            // pixels within tolerance a method must reach to pass
   uint64_t memoryLimit = UINT64_MAX;  // for oitref's frames (checkMemory)
   std::string heatmaps;              // folder for GL/oitref images and error heatmaps; empty: none
+  int threads = 0;                   // oitref's renderer threads; 0: every hardware thread
+  int timeRuns = 0;                  // > 0: also time each method side by side (scene_timing.h)
 };
 
 struct SceneCheckRow {
@@ -32,6 +36,7 @@ struct SceneCheckRow {
   ImageDifference presented, analysis;
   std::vector<std::pair<std::string, double>> attachmentsBitEqual;  // share of equal texels
   bool pass = false;
+  std::optional<MethodTiming> timing;
 };
 
 // Renders and compares; prints a table per scene to `out`. Throws on GL or scene errors.
