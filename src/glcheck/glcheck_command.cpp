@@ -119,6 +119,8 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
   }
   if (!c.recordTrace.empty() && !c.gpuReads.empty())
     throw std::invalid_argument("--record-trace and --gpu-reads: one at a time (record here, replay there, compare here)");
+  if (o.timeRuns > 0 && (!c.recordTrace.empty() || !c.gpuReads.empty()))
+    throw std::invalid_argument("--time measures this driver: not with --record-trace or --gpu-reads");
   // Side by side means the same thread count: llvmpipe reads LP_NUM_THREADS when the context starts.
   if (o.threads > 0) {
     const char* lp = std::getenv("LP_NUM_THREADS");
@@ -132,8 +134,6 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
   }
   GlContext context;
   printDriver(context);
-  if (o.timeRuns > 0 && (!c.recordTrace.empty() || !c.gpuReads.empty()))
-    throw std::invalid_argument("--time measures this driver: not with --record-trace or --gpu-reads");
   // Whole frames on another machine's GPU: record every GL call here, replay it there with
   // oitref-gpu-capture, then compare with the texels it read (gpucapture/gl_trace.h).
   std::ofstream trace;
