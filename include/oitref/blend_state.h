@@ -27,16 +27,16 @@ struct BlendState {
   BlendFactor dstAlpha = BlendFactor::Zero;
   uint8_t writeMask = 0xf;  // bit c set: channel c (r, g, b, a) is written
 
-  bool operator==(const BlendState&) const = default;
+  constexpr bool operator==(const BlendState&) const = default;
   std::string describe() const;  // "add,add src_alpha,one_minus_src_alpha,one,one mask=rgba"
 
   // Common configurations.
-  static BlendState disabled() { return {}; }
-  static BlendState separate(BlendEquation eqRgb, BlendEquation eqAlpha, BlendFactor sRgb, BlendFactor dRgb,
+  static constexpr BlendState disabled() { return {}; }
+  static constexpr BlendState separate(BlendEquation eqRgb, BlendEquation eqAlpha, BlendFactor sRgb, BlendFactor dRgb,
                              BlendFactor sA, BlendFactor dA) {
     return BlendState{true, eqRgb, eqAlpha, sRgb, dRgb, sA, dA, 0xf};
   }
-  static BlendState same(BlendEquation eq, BlendFactor src, BlendFactor dst) {
+  static constexpr BlendState same(BlendEquation eq, BlendFactor src, BlendFactor dst) {
     return separate(eq, eq, src, dst, src, dst);
   }
 };

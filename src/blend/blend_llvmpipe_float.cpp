@@ -1,11 +1,21 @@
 #include "blend/blend_llvmpipe_float.h"
 
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
-#include "blend/llvmpipe_factors.h"
+#include <utility>
+
+#include "blend/blend_math.h"
+#include "blend/method_blend_states.h"
 
 namespace oitref::detail {
 namespace {
+
+// Every helper is inlined into each compiled blend function, so that a state known when it is
+// compiled folds away (as llvmpipe's JIT folds it).
+#define LP_INLINE [[gnu::always_inline]] inline
 
 // A vector of four lanes that may be known, at JIT time, to be all 0 or all 1.
 struct Vec {
@@ -25,56 +35,57 @@ class Arith {
  public:
   Arith(bool flush, bool fma) : flush_(flush), fma_(fma) {}
 
-  Vec add(const Vec& a, const Vec& b) const {
+  LP_INLINE Vec add(const Vec& a, const Vec& b) const {
     if (a.kind == Vec::Zero) return b;
     if (b.kind == Vec::Zero) return a;
-    return lanes(a, b, [](float x, float y, float k) { return x * k + y * k; });
+    return lanes(a, b, [](auto x, auto y, auto k) { return x * k + y * k; });
   }
-  Vec sub(const Vec& a, const Vec& b) const {
+  LP_INLINE Vec sub(const Vec& a, const Vec& b) const {
     if (b.kind == Vec::Zero) return a;
-    return lanes(a, b, [](float x, float y, float k) { return x * k - y * k; });
+    return lanes(a, b, [](auto x, auto y, auto k) { return x * k - y * k; });
   }
-  Vec mul(const Vec& a, const Vec& b) const {
+  LP_INLINE Vec mul(const Vec& a, const Vec& b) const {
     if (a.kind == Vec::Zero || b.kind == Vec::Zero) return Vec::zero();
     if (a.kind == Vec::One) return b;
     if (b.kind == Vec::One) return a;
-    return lanes(a, b, [](float x, float y, float k) { return (x * k) * y; });
+    return lanes(a, b, [](auto x, auto y, auto k) { return (x * k) * y; });
   }
-  Vec comp(const Vec& a) const {  // 1 − a
+  LP_INLINE Vec comp(const Vec& a) const {  // 1 − a
     if (a.kind == Vec::One) return Vec::zero();
     if (a.kind == Vec::Zero) return Vec::one();
     return sub(Vec::of(glm::vec4(1.0f)), a);
   }
   // x86 minps / maxps: a < b ? a : b, on the DAZ-read operands.
-  glm::vec4 minps(const glm::vec4& a, const glm::vec4& b) const {
+  LP_INLINE glm::vec4 minps(const glm::vec4& a, const glm::vec4& b) const {
     glm::vec4 r;
     for (int i = 0; i < 4; ++i) r[i] = daz(a[i]) < daz(b[i]) ? daz(a[i]) : daz(b[i]);
     return r;
   }
-  glm::vec4 maxps(const glm::vec4& a, const glm::vec4& b) const {
+  LP_INLINE glm::vec4 maxps(const glm::vec4& a, const glm::vec4& b) const {
     glm::vec4 r;
     for (int i = 0; i < 4; ++i) r[i] = daz(a[i]) > daz(b[i]) ? daz(a[i]) : daz(b[i]);
     return r;
   }
   // lp_build_mad: llvm.fmuladd, one rounding on CPUs with FMA.
-  Vec mad(const Vec& a, const Vec& b, const Vec& c) const {
+  LP_INLINE Vec mad(const Vec& a, const Vec& b, const Vec& c) const {
     if (!fma_) return add(mul(a, b), c);
     Vec r = Vec::of(glm::vec4(0.0f));
     for (int i = 0; i < 4; ++i) {
       const float x = daz(a.v[i]), y = daz(b.v[i]), z = daz(c.v[i]);
       r.v[i] = ftz([&](float k) { return std::fma(x * k, y, z * k); });
+      if (r.v[i] != r.v[i]) r.v[i] = x86Nan(x, y, x86Nan(z, z, std::bit_cast<float>(0xffc00000u)));
     }
     return r;
   }
-  Vec lerp(const Vec& x, const Vec& v0, const Vec& v1) const { return mad(x, sub(v1, v0), v0); }
+  LP_INLINE Vec lerp(const Vec& x, const Vec& v0, const Vec& v1) const { return mad(x, sub(v1, v0), v0); }
 
  private:
-  float daz(float x) const { return flush_ && std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
+  LP_INLINE float daz(float x) const { return flush_ && std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
 
   // `op(k)` computes the operation with its operands scaled by k; k = 2^64 lifts a tiny result
   // into the normal range, where fp32 rounding is the unbounded-exponent rounding.
   template <typename Op>
-  float ftz(Op op) const {
+  LP_INLINE float ftz(Op op) const {
     const float r = op(1.0f);
     const float a = std::fabs(r);
     if (!flush_ || r == 0.0f || a > 0x1p-126f || std::isnan(r)) return r;
@@ -82,14 +93,40 @@ class Arith {
     return r;  // exactly ±2^-126 and not tiny before the format's denormal rounding
   }
 
+  // Four lanes at once; only lanes whose result may be tiny (|r| ≤ 2^-126, rare) take the
+  // scalar rule above, so the bits are those of ftz per lane.
   template <typename Op>
-  Vec lanes(const Vec& a, const Vec& b, Op op) const {
-    Vec r = Vec::of(glm::vec4(0.0f));
-    for (int i = 0; i < 4; ++i) {
-      const float x = daz(a.v[i]), y = daz(b.v[i]);
-      r.v[i] = ftz([&](float k) { return op(x, y, k); });
+  LP_INLINE Vec lanes(const Vec& a, const Vec& b, Op op) const {
+    const v4f x = daz4(load4(a.v)), y = daz4(load4(b.v));
+    v4f r = op(x, y, splat(1.0f));
+    if (r[0] != r[0] || r[1] != r[1] || r[2] != r[2] || r[3] != r[3])
+      for (int i = 0; i < 4; ++i) r[i] = x86Nan(x[i], y[i], r[i]);
+    if (flush_) {
+      const v4i tiny = (((v4i)r & 0x7fffffff) <= 0x00800000) & (((v4i)r & 0x7fffffff) != 0);
+      if (tiny[0] | tiny[1] | tiny[2] | tiny[3])
+        for (int i = 0; i < 4; ++i)
+          if (tiny[i]) r[i] = ftz([&](float k) { return op(x[i], y[i], k); });
     }
-    return r;
+    return Vec::of(store4(r));
+  }
+  // x86's NaN propagation, stated so that it does not depend on how the compiler orders the
+  // operands of a commutative operation: a NaN result is the first operand's NaN, else the
+  // second's, quieted; else the one the operation produced (x86's default NaN).
+  static float x86Nan(float x, float y, float r) {
+    auto quiet = [](float v) {
+      uint32_t b;
+      std::memcpy(&b, &v, 4);
+      b |= 0x00400000u;
+      std::memcpy(&v, &b, 4);
+      return v;
+    };
+    return x != x ? quiet(x) : y != y ? quiet(y) : r;
+  }
+  // daz on four lanes: a denormal (exponent bits 0) keeps only its sign.
+  LP_INLINE v4f daz4(v4f v) const {
+    if (!flush_) return v;
+    const v4i bits = (v4i)v;
+    return (v4f)(((bits & 0x7f800000) == 0) ? (bits & int32_t(0x80000000u)) : bits);
   }
 
   bool flush_, fma_;
@@ -103,7 +140,7 @@ struct Inputs {
 
 // lp_build_blend_factor_unswizzled, then the AAAA broadcast of alpha factors, for one lane
 // group: `alphaLane` selects the alpha channel's rules (SRC_ALPHA_SATURATE is 1 there).
-Vec unswizzled(const Arith& A, unsigned f, bool alphaLane, const Inputs& in) {
+LP_INLINE Vec unswizzled(const Arith& A, unsigned f, bool alphaLane, const Inputs& in) {
   const glm::vec4 sa(in.srcAlpha), ca(in.constAlpha);
   switch (f) {
     case kPipeZero: return Vec::zero();
@@ -128,7 +165,7 @@ Vec unswizzled(const Arith& A, unsigned f, bool alphaLane, const Inputs& in) {
 }
 
 // RGB lanes from the RGB factor, the alpha lane from the alpha factor; a constant only when both are.
-Vec factorVector(const Arith& A, unsigned rgb, unsigned alpha, const Inputs& in) {
+LP_INLINE Vec factorVector(const Arith& A, unsigned rgb, unsigned alpha, const Inputs& in) {
   const Vec r = unswizzled(A, rgb, false, in);
   if (!in.hasDstAlpha) return r;
   const Vec a = unswizzled(A, alpha, true, in);
@@ -138,7 +175,7 @@ Vec factorVector(const Arith& A, unsigned rgb, unsigned alpha, const Inputs& in)
   return mixed;
 }
 
-Vec blendFunc(const Arith& A, BlendEquation eq, const Vec& a, const Vec& b) {
+LP_INLINE Vec blendFunc(const Arith& A, BlendEquation eq, const Vec& a, const Vec& b) {
   switch (eq) {
     case BlendEquation::Add: return A.add(a, b);
     case BlendEquation::Subtract: return A.sub(a, b);
@@ -150,7 +187,7 @@ Vec blendFunc(const Arith& A, BlendEquation eq, const Vec& a, const Vec& b) {
 }
 
 // lp_build_blend for floating-point vectors.
-Vec lpBlend(const Arith& A, BlendEquation eq, unsigned fs, unsigned fd, const Vec& s, const Vec& d, const Vec& sf,
+LP_INLINE Vec lpBlend(const Arith& A, BlendEquation eq, unsigned fs, unsigned fd, const Vec& s, const Vec& d, const Vec& sf,
             const Vec& df, bool channelIndependent) {
   if (channelIndependent) {
     if (pipeComplementary(fs, fd)) {
@@ -171,36 +208,66 @@ Vec lpBlend(const Arith& A, BlendEquation eq, unsigned fs, unsigned fd, const Ve
   return blendFunc(A, eq, A.mul(s, sf), A.mul(d, df));
 }
 
+LP_INLINE glm::vec4 run(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4& source,
+                        const glm::vec4& destination) {
+  const LlvmpipeFloatShape& p = plan.shape;
+  const Arith A(plan.flushDenormals, plan.fma);
+  Inputs in{Vec::of(source), Vec::of(destination), Vec::of(constant), source[3], constant[3], p.hasAlpha};
+  const Vec sf = factorVector(A, p.rs, p.as, in), df = factorVector(A, p.rd, p.ad, in);
+  Vec result = lpBlend(A, p.eqRgb, p.rs, p.rd, in.src, in.dst, sf, df, p.independent);
+  if (p.eqRgb != p.eqAlpha && p.channels > 1 && p.hasAlpha)
+    result.v[3] = lpBlend(A, p.eqAlpha, p.as, p.ad, in.src, in.dst, sf, df, p.independent).v[3];
+  return result.v;
+}
+
+glm::vec4 general(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4& source,
+                  const glm::vec4& destination) {
+  return run(plan, constant, source, destination);
+}
+
+// `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
+template <LlvmpipeFloatShape Shape>
+glm::vec4 compiled(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4& source,
+                   const glm::vec4& destination) {
+  LlvmpipeFloatPlan p;
+  p.shape = Shape;
+  p.flushDenormals = plan.flushDenormals;
+  p.fma = plan.fma;
+  return run(p, constant, source, destination);
+}
+
+// One compiled function per method blend state and float layout: r, rg (no alpha) and rgba.
+struct CompiledEntry {
+  LlvmpipeFloatShape shape;
+  LlvmpipeFloatBlendFn fn;
+};
+template <size_t I, int Channels>
+constexpr CompiledEntry entry() {
+  constexpr LlvmpipeFloatShape shape = llvmpipeFloatShape(Channels, Channels == 4, states::kMethodBlendStates[I]);
+  return {shape, &compiled<shape>};
+}
+template <size_t... I>
+constexpr auto compiledTable(std::index_sequence<I...>) {
+  return std::array<CompiledEntry, 3 * sizeof...(I)>{entry<I, 1>()..., entry<I, 2>()..., entry<I, 4>()...};
+}
+constexpr auto kCompiled = compiledTable(std::make_index_sequence<std::size(states::kMethodBlendStates)>());
+
 }  // namespace
+
+LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool specialised) {
+  if (specialised)
+    for (const CompiledEntry& e : kCompiled)
+      if (e.shape == shape) return e.fn;
+  return general;
+}
 
 glm::vec4 blendLlvmpipeFloat(const Format& format, const BlendState& state, const glm::vec4& constant, bool fma,
                              bool flushDenormals, const glm::vec4& source, const glm::vec4& destination) {
-  const Arith A(flushDenormals, fma);
-  const bool hasAlpha = format.hasAlpha();
-  const int channels = format.channels;
-  unsigned rs = pipeFactor(state.srcRgb), rd = pipeFactor(state.dstRgb);
-  unsigned as = pipeFactor(state.srcAlpha), ad = pipeFactor(state.dstAlpha);
-  // Mesa's state tracker: MIN and MAX ignore the factors, so it sets them to ONE.
-  auto isMinMax = [](BlendEquation e) { return e == BlendEquation::Min || e == BlendEquation::Max; };
-  if (isMinMax(state.equationRgb)) rs = rd = kPipeOne;
-  if (isMinMax(state.equationAlpha)) as = ad = kPipeOne;
-  // llvmpipe (lp_state_fs.c): without a destination alpha channel, Ad = 1 is folded into the
-  // RGB factors, and the alpha equation and factors are made the RGB ones.
-  BlendEquation eqAlpha = state.equationAlpha;
-  if (!hasAlpha) {
-    for (unsigned* f : {&rs, &rd}) {
-      if (*f == kPipeDstAlpha) *f = kPipeOne;
-      else if (*f == kPipeInvDstAlpha) *f = kPipeZero;
-    }
-    as = rs, ad = rd, eqAlpha = state.equationRgb;
-  }
-  Inputs in{Vec::of(source), Vec::of(destination), Vec::of(constant), source[3], constant[3], hasAlpha};
-  const Vec sf = factorVector(A, rs, as, in), df = factorVector(A, rd, ad, in);
-  const bool independent = (rs == rd && as == ad) || channels == 1;
-  Vec result = lpBlend(A, state.equationRgb, rs, rd, in.src, in.dst, sf, df, independent);
-  if (state.equationRgb != eqAlpha && channels > 1 && hasAlpha)
-    result.v[3] = lpBlend(A, eqAlpha, as, ad, in.src, in.dst, sf, df, independent).v[3];
-  return result.v;
+  LlvmpipeFloatPlan plan;
+  plan.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
+  plan.flushDenormals = flushDenormals;
+  plan.fma = fma;
+  return run(plan, constant, source, destination);
 }
 
 }  // namespace oitref::detail

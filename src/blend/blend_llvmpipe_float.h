@@ -12,6 +12,8 @@
 //    multiply-add (profile key fma), with SUBTRACT (s + d)·Sf − d, with REVERSE_SUBTRACT
 //    d − (s + d)·Sf (mirrored when the source factor is the inverted one); equal factors give
 //    (s ⊕ d)·F.
+// Like llvmpipe, oitref makes these decisions once per draw (LlvmpipeFloatPlan) and runs a blend
+// function compiled for the draw's state where it is one the methods use.
 #pragma once
 
 #include <cstdint>
@@ -21,13 +23,67 @@
 #include "oitref/blend_state.h"
 #include "oitref/format.h"
 #include "oitref/profile.h"
+#include "blend/llvmpipe_factors.h"
 
 namespace oitref::detail {
 
-// The blended value of the texel's channels (fp32, before conversion into the format).
+// What llvmpipe decides when it compiles a draw's blend (lp_state_fs.c, lp_bld_blend*.c): the
+// factors in Gallium numbering after Mesa's rewrites (MIN/MAX take ONE; without alpha, DST_ALPHA
+// is ONE and the alpha equation is the RGB one), the layout, and whether the factors are the same
+// for every channel. Two plans with equal shapes blend alike.
+struct LlvmpipeFloatShape {
+  unsigned rs = 0, rd = 0, as = 0, ad = 0;
+  BlendEquation eqRgb = BlendEquation::Add, eqAlpha = BlendEquation::Add;
+  int channels = 4;
+  bool hasAlpha = true;
+  bool independent = false;
+  constexpr bool operator==(const LlvmpipeFloatShape&) const = default;
+};
+constexpr LlvmpipeFloatShape llvmpipeFloatShape(int channels, bool hasAlpha, const BlendState& state);
+
 // `flushDenormals`: llvmpipe sets DAZ and FTZ for the fragment code unless the draw writes a
-// small-float target (fp16, r11g11b10f), whose conversions need denormals.
+// small-float target (fp16, r11g11b10f), whose conversions need denormals. `fma`: profile key fma.
+struct LlvmpipeFloatPlan {
+  LlvmpipeFloatShape shape;
+  bool flushDenormals = true, fma = false;
+};
+
+// Blends fp32 `source` and `destination` (the texel decoded) as the plan says; the result is
+// converted into the format by the caller.
+using LlvmpipeFloatBlendFn = glm::vec4 (*)(const LlvmpipeFloatPlan&, const glm::vec4& constant, const glm::vec4& source,
+                                           const glm::vec4& destination);
+
+// The general function, and one compiled for the plan's shape when it is that of a method blend
+// state (method_blend_states.h), with the same bits; `specialised` false always gives the general one.
+LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool specialised = true);
+
+// The blended value of the texel's channels (fp32, before conversion into the format).
 glm::vec4 blendLlvmpipeFloat(const Format& format, const BlendState& state, const glm::vec4& constant, bool fma,
                              bool flushDenormals, const glm::vec4& source, const glm::vec4& destination);
+
+constexpr LlvmpipeFloatShape llvmpipeFloatShape(int channels, bool hasAlpha, const BlendState& state) {
+  LlvmpipeFloatShape s;
+  s.channels = channels;
+  s.hasAlpha = hasAlpha;
+  s.rs = pipeFactor(state.srcRgb), s.rd = pipeFactor(state.dstRgb);
+  s.as = pipeFactor(state.srcAlpha), s.ad = pipeFactor(state.dstAlpha);
+  // Mesa's state tracker: MIN and MAX ignore the factors, so it sets them to ONE.
+  auto isMinMax = [](BlendEquation e) { return e == BlendEquation::Min || e == BlendEquation::Max; };
+  if (isMinMax(state.equationRgb)) s.rs = s.rd = kPipeOne;
+  if (isMinMax(state.equationAlpha)) s.as = s.ad = kPipeOne;
+  s.eqRgb = state.equationRgb;
+  s.eqAlpha = state.equationAlpha;
+  // llvmpipe (lp_state_fs.c): without a destination alpha channel, Ad = 1 is folded into the
+  // RGB factors, and the alpha equation and factors are made the RGB ones.
+  if (!hasAlpha) {
+    for (unsigned* f : {&s.rs, &s.rd}) {
+      if (*f == kPipeDstAlpha) *f = kPipeOne;
+      else if (*f == kPipeInvDstAlpha) *f = kPipeZero;
+    }
+    s.as = s.rs, s.ad = s.rd, s.eqAlpha = s.eqRgb;
+  }
+  s.independent = (s.rs == s.rd && s.as == s.ad) || channels == 1;
+  return s;
+}
 
 }  // namespace oitref::detail

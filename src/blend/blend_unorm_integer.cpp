@@ -1,16 +1,22 @@
 #include "blend/blend_unorm_integer.h"
 
+#include <array>
 #include <cstring>
+#include <utility>
 
 #include "blend/blend_factor.h"
 #include "blend/llvmpipe_factors.h"
+#include "blend/method_blend_states.h"
 #include "format/packed_layout.h"
 
 namespace oitref::detail {
 namespace {
 
+// Inlined into each compiled blend function, so that a state known when it is compiled folds away.
+#define UI_INLINE [[gnu::always_inline]] inline
+
 // Channel ch of a factor: candidate row of blend_factor.h in w-bit integers, 1 − v as max − v.
-uint32_t factorInteger(BlendFactor f, int ch, const uint32_t s[4], const uint32_t d[4], uint32_t ad, const uint32_t c[4],
+UI_INLINE uint32_t factorInteger(BlendFactor f, int ch, const uint32_t s[4], const uint32_t d[4], uint32_t ad, const uint32_t c[4],
                        uint32_t max) {
   const FactorRow fr = factorRow(f);
   uint32_t v = 0;
@@ -27,7 +33,7 @@ uint32_t factorInteger(BlendFactor f, int ch, const uint32_t s[4], const uint32_
   return fr.oneMinus ? max - v : v;
 }
 
-uint32_t equationInteger(BlendEquation eq, uint32_t s, uint32_t d, uint32_t sf, uint32_t df, int w) {
+UI_INLINE uint32_t equationInteger(BlendEquation eq, uint32_t s, uint32_t d, uint32_t sf, uint32_t df, int w) {
   const int64_t a = mulUnormInteger(s, sf, w), b = mulUnormInteger(d, df, w), max = (int64_t(1) << w) - 1;
   int64_t r = 0;
   switch (eq) {
@@ -42,7 +48,7 @@ uint32_t equationInteger(BlendEquation eq, uint32_t s, uint32_t d, uint32_t sf, 
 
 // lp_build_lerp on 8-bit normalized integers (SSSE3 pmulhrsw path): x scaled to [0, 256] as
 // x + (x >> 7), then v0 + ((x·(v1 − v0) + 128) >> 8) (arithmetic shift), modulo 256.
-uint32_t lerpUnorm8(uint32_t x, uint32_t v0, uint32_t v1) {
+UI_INLINE uint32_t lerpUnorm8(uint32_t x, uint32_t v0, uint32_t v1) {
   const int scaled = int(x + (x >> 7));
   const int delta = int(v1) - int(v0);
   const int step = (scaled * delta + 128) >> 8;  // C++20: >> on negatives is arithmetic
@@ -51,7 +57,7 @@ uint32_t lerpUnorm8(uint32_t x, uint32_t v0, uint32_t v1) {
 
 // The same on 16-bit normalized integers, widened to 32 bits (no pmulhrsw): x scaled to
 // [0, 65536] as x + (x >> 15), then v0 + ((x·(v1 − v0)) >> 16), truncating (arithmetic shift).
-uint32_t lerpUnorm16(uint32_t x, uint32_t v0, uint32_t v1) {
+UI_INLINE uint32_t lerpUnorm16(uint32_t x, uint32_t v0, uint32_t v1) {
   const int64_t scaled = int64_t(x + (x >> 15));
   const int64_t delta = int64_t(v1) - int64_t(v0);
   return uint32_t(int64_t(v0) + ((scaled * delta) >> 16)) & 0xffffu;
@@ -70,73 +76,141 @@ bool isLerpCase(const Format& f, const BlendState& st, unsigned& fs, unsigned& f
   return pipeComplementary(fs, fd);
 }
 
-int channelBits(const Format& f, int ch) { return f.unormBits(ch); }
-
 // The stored n-bit codes of the texel (missing channels: 0, alpha max).
-void loadCodes(const Format& f, const uint8_t* texel, uint32_t codes[4]) {
-  if (f.id == FormatId::RGB10A2) {
+UI_INLINE void loadCodes(const UnormIntegerPlan& p, const uint8_t* texel, uint32_t codes[4]) {
+  if (p.rgb10a2) {
     uint32_t w;
     std::memcpy(&w, texel, 4);
     for (int ch = 0; ch < 4; ++ch) codes[ch] = (w >> kRgb10a2Shift[ch]) & ((1u << kRgb10a2Bits[ch]) - 1);
+  } else if (p.bits[0] == 8) {
+    for (int ch = 0; ch < p.channels; ++ch) codes[ch] = texel[ch];
   } else {
-    const int bytes = f.unormBits(0) / 8;
-    for (int ch = 0; ch < f.channels; ++ch) {
-      codes[ch] = 0;
-      std::memcpy(&codes[ch], texel + ch * bytes, size_t(bytes));  // little-endian, like the texel
+    for (int ch = 0; ch < p.channels; ++ch) {
+      uint16_t v;
+      std::memcpy(&v, texel + 2 * ch, 2);  // little-endian, like the texel
+      codes[ch] = v;
     }
   }
 }
 
-void storeCodes(const Format& f, const uint32_t codes[4], unsigned mask, uint8_t* texel) {
-  if (f.id == FormatId::RGB10A2) {
+UI_INLINE void storeCodes(const UnormIntegerPlan& p, const uint32_t codes[4], uint8_t* texel) {
+  if (p.rgb10a2) {
     uint32_t w;
     std::memcpy(&w, texel, 4);
     for (int ch = 0; ch < 4; ++ch) {
-      if (!(mask & (1u << ch))) continue;
+      if (!(p.writeMask & (1u << ch))) continue;
       const uint32_t m = ((1u << kRgb10a2Bits[ch]) - 1) << kRgb10a2Shift[ch];
       w = (w & ~m) | (codes[ch] << kRgb10a2Shift[ch]);
     }
     std::memcpy(texel, &w, 4);
+  } else if (p.bits[0] == 8) {
+    for (int ch = 0; ch < p.channels; ++ch)
+      if (p.writeMask & (1u << ch)) texel[ch] = uint8_t(codes[ch]);
   } else {
-    const int bytes = f.unormBits(0) / 8;
-    for (int ch = 0; ch < f.channels; ++ch)
-      if (mask & (1u << ch)) std::memcpy(texel + ch * bytes, &codes[ch], size_t(bytes));
+    for (int ch = 0; ch < p.channels; ++ch)
+      if (p.writeMask & (1u << ch)) {
+        const uint16_t v = uint16_t(codes[ch]);
+        std::memcpy(texel + 2 * ch, &v, 2);
+      }
   }
 }
 
+UI_INLINE void run(const UnormIntegerPlan& p, const glm::vec4& source, uint8_t* texel) {
+  const int w = p.w;
+  const uint32_t max = p.max;
+  const BlendState& state = p.state;
+  uint32_t s[4], d[4] = {0, 0, 0, max}, codes[4] = {0, 0, 0, 0};
+  for (int ch = 0; ch < 4; ++ch) s[ch] = encodeUnorm(source[ch], w, p.rounding);
+  loadCodes(p, texel, codes);
+  for (int ch = 0; ch < p.channels; ++ch) d[ch] = widenUnormBits(codes[ch], p.bits[ch], w);
+  const uint32_t ad = p.hasAlpha ? d[3] : max;
+  if (p.lerp) {
+    auto lerp = w == 8 ? lerpUnorm8 : lerpUnorm16;
+    if (p.writeMask & 1u) {
+      const uint32_t sf = factorInteger(state.srcRgb, 0, s, d, ad, p.constant, max);
+      const uint32_t df = factorInteger(state.dstRgb, 0, s, d, ad, p.constant, max);
+      codes[0] = p.lerpSrc < p.lerpDst ? lerp(sf, d[0], s[0]) : lerp(df, s[0], d[0]);
+    }
+    storeCodes(p, codes, texel);
+    return;
+  }
+  for (int ch = 0; ch < p.channels; ++ch) {
+    if (!(p.writeMask & (1u << ch))) continue;
+    const bool alpha = ch == 3;
+    const uint32_t sf = factorInteger(alpha ? state.srcAlpha : state.srcRgb, ch, s, d, ad, p.constant, max);
+    const uint32_t df = factorInteger(alpha ? state.dstAlpha : state.dstRgb, ch, s, d, ad, p.constant, max);
+    const uint32_t r = equationInteger(alpha ? state.equationAlpha : state.equationRgb, s[ch], d[ch], sf, df, w);
+    codes[ch] = narrowUnormBits(r, w, p.bits[ch]);
+  }
+  storeCodes(p, codes, texel);
+}
+
+void general(const UnormIntegerPlan& plan, const glm::vec4& source, uint8_t* texel) { run(plan, source, texel); }
+
+// `run` with the blend state and an 8-bit layout of Channels channels, all written, as
+// compile-time constants; the constant and the rounding stay variables.
+template <BlendState State, int Channels>
+void compiled(const UnormIntegerPlan& plan, const glm::vec4& source, uint8_t* texel) {
+  UnormIntegerPlan p = plan;
+  p.state = State;
+  p.channels = Channels;
+  for (int ch = 0; ch < 4; ++ch) p.bits[ch] = 8;
+  p.rgb10a2 = false;
+  p.hasAlpha = Channels == 4;
+  p.w = 8;
+  p.max = 255;
+  p.writeMask = (1u << Channels) - 1;
+  run(p, source, texel);
+}
+
+struct CompiledEntry {
+  BlendState state;
+  int channels;
+  UnormIntegerBlendFn fn;
+};
+template <size_t... I>
+constexpr auto compiledTable(std::index_sequence<I...>) {
+  using states::kMethodBlendStates;
+  return std::array<CompiledEntry, 3 * sizeof...(I)>{
+      CompiledEntry{kMethodBlendStates[I], 1, &compiled<kMethodBlendStates[I], 1>}...,
+      CompiledEntry{kMethodBlendStates[I], 2, &compiled<kMethodBlendStates[I], 2>}...,
+      CompiledEntry{kMethodBlendStates[I], 4, &compiled<kMethodBlendStates[I], 4>}...};
+}
+constexpr auto kCompiled = compiledTable(std::make_index_sequence<std::size(states::kMethodBlendStates)>());
+
 }  // namespace
+
+UnormIntegerPlan planUnormInteger(const Format& f, const BlendState& state, const glm::vec4& constant,
+                                  UnormRounding rounding, unsigned writeMask) {
+  UnormIntegerPlan p;
+  p.state = state;
+  p.channels = f.channels;
+  p.rgb10a2 = f.id == FormatId::RGB10A2;
+  for (int ch = 0; ch < 4; ++ch) p.bits[ch] = ch < f.channels ? f.unormBits(ch) : 8;
+  p.hasAlpha = f.hasAlpha();
+  p.w = unormBlendWidth(f);
+  p.max = (1u << p.w) - 1;
+  p.rounding = rounding;
+  for (int ch = 0; ch < 4; ++ch) p.constant[ch] = encodeUnorm(constant[ch], p.w, rounding);
+  p.writeMask = writeMask;
+  p.lerp = (p.w == 8 || f.unormBits(0) == 16) && isLerpCase(f, state, p.lerpSrc, p.lerpDst);
+  return p;
+}
+
+UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& p, bool specialised) {
+  const bool eightBit = !p.rgb10a2 && p.bits[0] == 8 && p.writeMask == (1u << p.channels) - 1;
+  if (specialised && eightBit)
+    for (const CompiledEntry& e : kCompiled)
+      if (e.channels == p.channels && e.state.equationRgb == p.state.equationRgb &&
+          e.state.equationAlpha == p.state.equationAlpha && e.state.srcRgb == p.state.srcRgb &&
+          e.state.dstRgb == p.state.dstRgb && e.state.srcAlpha == p.state.srcAlpha && e.state.dstAlpha == p.state.dstAlpha)
+        return e.fn;
+  return general;
+}
 
 void blendUnormInteger(const Format& f, const BlendState& state, const glm::vec4& constant, UnormRounding rounding,
                        const glm::vec4& source, unsigned writeMask, uint8_t* texel) {
-  const int w = unormBlendWidth(f);
-  const uint32_t max = (1u << w) - 1;
-  uint32_t s[4], d[4] = {0, 0, 0, max}, c[4], codes[4] = {0, 0, 0, 0};
-  for (int ch = 0; ch < 4; ++ch) {
-    s[ch] = encodeUnorm(source[ch], w, rounding);
-    c[ch] = encodeUnorm(constant[ch], w, rounding);
-  }
-  loadCodes(f, texel, codes);
-  for (int ch = 0; ch < f.channels; ++ch) d[ch] = widenUnormBits(codes[ch], channelBits(f, ch), w);
-  const uint32_t ad = f.hasAlpha() ? d[3] : max;
-  unsigned fs = 0, fd = 0;
-  if ((w == 8 || f.unormBits(0) == 16) && isLerpCase(f, state, fs, fd)) {
-    auto lerp = w == 8 ? lerpUnorm8 : lerpUnorm16;
-    if (writeMask & 1u) {
-      const uint32_t sf = factorInteger(state.srcRgb, 0, s, d, ad, c, max), df = factorInteger(state.dstRgb, 0, s, d, ad, c, max);
-      codes[0] = fs < fd ? lerp(sf, d[0], s[0]) : lerp(df, s[0], d[0]);
-    }
-    storeCodes(f, codes, writeMask, texel);
-    return;
-  }
-  for (int ch = 0; ch < f.channels; ++ch) {
-    if (!(writeMask & (1u << ch))) continue;
-    const bool alpha = ch == 3;
-    const uint32_t sf = factorInteger(alpha ? state.srcAlpha : state.srcRgb, ch, s, d, ad, c, max);
-    const uint32_t df = factorInteger(alpha ? state.dstAlpha : state.dstRgb, ch, s, d, ad, c, max);
-    const uint32_t r = equationInteger(alpha ? state.equationAlpha : state.equationRgb, s[ch], d[ch], sf, df, w);
-    codes[ch] = narrowUnormBits(r, w, channelBits(f, ch));
-  }
-  storeCodes(f, codes, writeMask, texel);
+  run(planUnormInteger(f, state, constant, rounding, writeMask), source, texel);
 }
 
 }  // namespace oitref::detail

@@ -30,6 +30,30 @@ inline uint32_t mulUnormInteger(uint32_t a, uint32_t b, int w) {
 }
 inline uint32_t mulUnorm8(uint32_t a, uint32_t b) { return mulUnormInteger(a, b, 8); }
 
+// What llvmpipe fixes when it compiles a draw's blend for one UNORM target: the layout, the blend
+// width, the constant in w bits, and whether the one-channel lerp applies.
+struct UnormIntegerPlan {
+  BlendState state;
+  int channels = 4;
+  int bits[4] = {8, 8, 8, 8};  // stored bits per channel
+  bool rgb10a2 = false, hasAlpha = true;
+  int w = 8;
+  uint32_t max = 255;
+  uint32_t constant[4] = {0, 0, 0, 0};  // in w bits
+  UnormRounding rounding = UnormRounding::Fp32Product;
+  unsigned writeMask = 0xf;
+  bool lerp = false;  // one channel, complementary factors, ADD: lp_build_lerp
+  unsigned lerpSrc = 0, lerpDst = 0;  // the sanitised Gallium factors of the lerp
+};
+UnormIntegerPlan planUnormInteger(const Format& format, const BlendState& state, const glm::vec4& constant,
+                                  UnormRounding rounding, unsigned writeMask);
+
+// Blends `source` into the texel as the plan says.
+using UnormIntegerBlendFn = void (*)(const UnormIntegerPlan&, const glm::vec4& source, uint8_t* texel);
+// The general function, or one compiled for the plan's blend state and 8-bit layout when the state
+// is a method blend state (method_blend_states.h): the same bits. `specialised` false: the general one.
+UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& plan, bool specialised = true);
+
 void blendUnormInteger(const Format& format, const BlendState& state, const glm::vec4& constant, UnormRounding rounding,
                        const glm::vec4& source, unsigned writeMask, uint8_t* texel);
 

@@ -16,7 +16,7 @@ enum PipeFactor : unsigned {
   kPipeInvConstColor = 0x17, kPipeInvConstAlpha = 0x18,
 };
 
-inline unsigned pipeFactor(BlendFactor f) {
+constexpr unsigned pipeFactor(BlendFactor f) {
   constexpr unsigned table[] = {kPipeZero,        kPipeOne,           kPipeSrcColor,   kPipeInvSrcColor,
                                 kPipeDstColor,    kPipeInvDstColor,   kPipeSrcAlpha,   kPipeInvSrcAlpha,
                                 kPipeDstAlpha,    kPipeInvDstAlpha,   kPipeConstColor, kPipeInvConstColor,
@@ -25,6 +25,6 @@ inline unsigned pipeFactor(BlendFactor f) {
 }
 
 // lp_build_blend_factor_complementary: the destination factor is the source's inverse.
-inline bool pipeComplementary(unsigned src, unsigned dst) { return dst == (src ^ 0x10u); }
+constexpr bool pipeComplementary(unsigned src, unsigned dst) { return dst == (src ^ 0x10u); }
 
 }  // namespace oitref::detail

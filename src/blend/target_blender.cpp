@@ -4,9 +4,7 @@
 #include <cstring>
 
 #include "blend/blend_math.h"
-#include "blend/blend_llvmpipe_float.h"
 #include "blend/blend_nvidia.h"
-#include "blend/blend_unorm_integer.h"
 #include "format/fp16_inline.h"
 
 namespace oitref::detail {
@@ -33,8 +31,25 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
                      (format.isUnorm() ? profile.unormBlend == UnormBlend::Nvidia : profile.floatBlend == FloatBlend::Nvidia);
   if (mask_ == 0) kernel_ = maskedOffKernel;
   else if (state.enabled && nvidia) kernel_ = nvidiaKernel;
-  else if (state.enabled && integer) kernel_ = integerUnormKernel;
-  else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) kernel_ = llvmpipeFloatKernel;
+  else if (state.enabled && integer) {
+    unormPlan_ = planUnormInteger(format, state, constant, profile.unorm, mask_);
+    unormBlend_ = unormIntegerBlendFor(unormPlan_, allowFastPath);
+    kernel_ = integerUnormKernel;
+  }
+  else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) {
+    llvmpipePlan_.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
+    llvmpipePlan_.flushDenormals = flushDenormals_;
+    llvmpipePlan_.fma = profile.fma;
+    llvmpipeBlend_ = llvmpipeFloatBlendFor(llvmpipePlan_.shape, allowFastPath);
+    kernel_ = llvmpipeFloatKernel;
+    const int c = format.channels;
+    if (allowFastPath && mask_ == all && (c == 1 || c == 2 || c == 4)) {
+      if (format.encoding() == ChannelEncoding::Half)
+        kernel_ = c == 4 ? llvmpipeFloatTexelKernel<4, true> : c == 2 ? llvmpipeFloatTexelKernel<2, true> : llvmpipeFloatTexelKernel<1, true>;
+      else if (format.encoding() == ChannelEncoding::Float32)
+        kernel_ = c == 4 ? llvmpipeFloatTexelKernel<4, false> : c == 2 ? llvmpipeFloatTexelKernel<2, false> : llvmpipeFloatTexelKernel<1, false>;
+    }
+  }
   else if (!allowFastPath || mask_ != all) kernel_ = genericKernel;
   else {
     const int c = format.channels;
@@ -70,11 +85,29 @@ void TargetBlender::genericKernel(const TargetBlender& b, const glm::vec4& sourc
 
 void TargetBlender::llvmpipeFloatKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
   const Format& f = b.format_;
-  const glm::vec4 result = blendLlvmpipeFloat(f, b.state_, b.rawConstant_, b.profile_.fma, b.flushDenormals_, source,
-                                              decodeTexel(f, texel));
+  const glm::vec4 result = b.llvmpipeBlend_(b.llvmpipePlan_, b.rawConstant_, source, decodeTexel(f, texel));
   uint8_t encoded[16];
   encodeTexel(f, result, b.profile_, encoded);
   mergeTexelChannels(f, encoded, texel, b.mask_);
+}
+
+// The same for fp16 and fp32 targets with every channel written, without the per-channel format
+// dispatch: decoding (fp16 exactly, via F16C where built with it) and encoding as encodeTexel does.
+template <int Channels, bool Half>
+void TargetBlender::llvmpipeFloatTexelKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+  glm::vec4 d(0.0f, 0.0f, 0.0f, 1.0f);
+  if constexpr (Half) {
+    uint16_t h[4] = {0, 0, 0, 0x3c00};
+    std::memcpy(h, texel, 2 * Channels);
+    for (int c = 0; c < Channels; ++c) d[c] = decodeHalfInline(h[c]);
+    const glm::vec4 r = b.llvmpipeBlend_(b.llvmpipePlan_, b.rawConstant_, source, d);
+    for (int c = 0; c < Channels; ++c) h[c] = encodeHalfInline(r[c], b.profile_.fp16);
+    std::memcpy(texel, h, 2 * Channels);
+  } else {
+    std::memcpy(&d[0], texel, 4 * Channels);
+    const glm::vec4 r = b.llvmpipeBlend_(b.llvmpipePlan_, b.rawConstant_, source, d);
+    std::memcpy(texel, &r[0], 4 * Channels);
+  }
 }
 
 void TargetBlender::nvidiaKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
@@ -82,7 +115,7 @@ void TargetBlender::nvidiaKernel(const TargetBlender& b, const glm::vec4& source
 }
 
 void TargetBlender::integerUnormKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  blendUnormInteger(b.format_, b.state_, b.rawConstant_, b.profile_.unorm, source, b.mask_, texel);
+  b.unormBlend_(b.unormPlan_, source, texel);
 }
 
 template <int Channels>

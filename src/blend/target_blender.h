@@ -9,7 +9,9 @@
 
 #include <glm/vec4.hpp>
 
+#include "blend/blend_llvmpipe_float.h"
 #include "blend/blend_math.h"
+#include "blend/blend_unorm_integer.h"
 #include "oitref/blend_state.h"
 #include "oitref/format.h"
 #include "oitref/profile.h"
@@ -38,6 +40,7 @@ class TargetBlender {
   static void genericKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void integerUnormKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void llvmpipeFloatKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <int Channels, bool Half> static void llvmpipeFloatTexelKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void nvidiaKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void maskedOffKernel(const TargetBlender&, const glm::vec4&, uint8_t*) {}
 
@@ -49,6 +52,10 @@ class TargetBlender {
   Profile profile_;
   unsigned mask_;
   bool flushDenormals_;
+  LlvmpipeFloatPlan llvmpipePlan_;
+  LlvmpipeFloatBlendFn llvmpipeBlend_ = nullptr;
+  UnormIntegerPlan unormPlan_;
+  UnormIntegerBlendFn unormBlend_ = nullptr;
   Kernel kernel_;
 };
 

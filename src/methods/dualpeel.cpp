@@ -17,12 +17,13 @@
 // maximum of their two accumulations wins — a colour neither order would give; at the back, the
 // maximum of the two colours. This is the method's documented weakness, and oitref keeps it.
 #include "methods/method_common.h"
+#include "blend/method_blend_states.h"
 #include "methods/methods.h"
 
 namespace oitref::methods {
 namespace {
 
-BlendState maxBlend() { return BlendState::same(BlendEquation::Max, BlendFactor::One, BlendFactor::One); }
+BlendState maxBlend() { return detail::states::kMax; }
 
 class Dualpeel final : public Method {
  public:

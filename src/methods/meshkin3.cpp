@@ -14,6 +14,7 @@
 // inconsistent, and this method reproduces it as published rather than guessing a repair.
 // McGuire and Bavoil call Meshkin's weighted sum (`wsum`) the higher-quality of his two operators.
 // An α of 0 makes 1/α infinite: t2 holds inf and the composite NaN where t3.a is 0, as on a GPU.
+#include "blend/method_blend_states.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
 
@@ -57,7 +58,7 @@ class Meshkin3 final : public Method {
     product.color[0] = &t3;
     product.depth = &t.depth("depth");
     run.transparentPass("product", product,
-                        transparentState(profile, BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::SrcColor)),
+                        transparentState(profile, detail::states::kProduct),
                         [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) { out.write(0, c); });
 
     run.compositeOntoBackgrounds(t, "composite", [&](const FragmentInput& in, const glm::vec3 bg[2], glm::vec3 out[2]) {

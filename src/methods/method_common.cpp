@@ -3,6 +3,8 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "blend/method_blend_states.h"
+
 namespace oitref::methods {
 namespace {
 
@@ -168,36 +170,13 @@ void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accu
   });
 }
 
-BlendState overBlend() {
-  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
-                              BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);
-}
-
-BlendState additiveBlend() { return BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One); }
-
-BlendState revealageBlend() {
-  return BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);
-}
-
-BlendState singleTargetWeightedBlend() {
-  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One, BlendFactor::One,
-                              BlendFactor::Zero, BlendFactor::OneMinusSrcAlpha);
-}
-
-BlendState compositeBlend() {
-  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::OneMinusSrcAlpha,
-                              BlendFactor::SrcAlpha, BlendFactor::Zero, BlendFactor::One);
-}
-
-BlendState underBlend() {
-  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::DstAlpha, BlendFactor::One,
-                              BlendFactor::Zero, BlendFactor::OneMinusSrcAlpha);
-}
-
-BlendState premultipliedOntoBackgroundBlend() {
-  return BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One, BlendFactor::SrcAlpha,
-                              BlendFactor::Zero, BlendFactor::One);
-}
+BlendState overBlend() { return detail::states::kOver; }
+BlendState additiveBlend() { return detail::states::kAdditive; }
+BlendState revealageBlend() { return detail::states::kRevealage; }
+BlendState singleTargetWeightedBlend() { return detail::states::kSingleTargetWeighted; }
+BlendState compositeBlend() { return detail::states::kComposite; }
+BlendState underBlend() { return detail::states::kUnder; }
+BlendState premultipliedOntoBackgroundBlend() { return detail::states::kPremultipliedOntoBackground; }
 
 DepthState transparentDepth() { return {true, CompareFunc::Less, false, false}; }
 

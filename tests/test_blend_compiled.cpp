@@ -1,0 +1,68 @@
+// The blend kernels compiled per draw for the methods' blend states (blend/method_blend_states.h)
+// against the general kernels, which make every decision per fragment: same stored bits.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+
+#include "blend/method_blend_states.h"
+#include "blend/target_blender.h"
+#include "support.h"
+
+using namespace oitref;
+
+namespace {
+
+// Inputs that reach every rule: specials, denormals (DAZ), values whose products are tiny (FTZ),
+// exactly ±2^-126, UNORM edges, and ordinary random values.
+float interesting(test::BitStream& rng) {
+  static const float specials[] = {NAN,     -NAN,      INFINITY,  -INFINITY, 0.0f,        -0.0f,       1e-40f, -1e-40f,
+                                   0x1p-126f, -0x1p-126f, 0x1p-64f, 0x1p-63f, 65520.0f, 1.0f, 0.5f, 1.0f / 255.0f,
+                                   0.99999994f, 1.0000001f};
+  switch (rng.next() % 4) {
+    case 0: return specials[rng.next() % (sizeof specials / sizeof specials[0])];
+    case 1: return rng.uniform(0.0f, 1.0f);
+    case 2: return rng.uniform(-2.0f, 3.0f);
+    default: {  // any bit pattern
+      const uint32_t bits = rng.next();
+      float f;
+      std::memcpy(&f, &bits, 4);
+      return f;
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("blend: kernels compiled for the methods' blend states give the general kernels' bits", "[blend]") {
+  test::BitStream rng(2026);
+  const char* formats[] = {"rgba8", "rg8", "r8", "rgba16", "rgb10a2", "rgba16f", "rg16f", "r16f",
+                           "rgba32f", "rg32f", "r32f", "r11g11b10f"};
+  int compared = 0;
+  for (const char* name : formats) {
+    const Format f = parseFormat(name);
+    for (const Profile& p : {exactProfile(), llvmpipeProfile(), parseProfile("llvmpipe,fma=off"), nvidiaProfile()})
+      for (const BlendState& state : detail::states::kMethodBlendStates)
+        for (bool smallFloatBound : {false, true})
+          for (int i = 0; i < 400; ++i) {
+            glm::vec4 src, constant;
+            for (int k = 0; k < 4; ++k) src[k] = interesting(rng), constant[k] = rng.uniform(-0.5f, 1.5f);
+            uint8_t compiled[16], general[16];
+            for (int b = 0; b < 16; ++b) compiled[b] = uint8_t(rng.next());
+            if (i % 2 == 0 && !f.isUnorm())  // a destination of interesting values
+              for (int k = 0; k < f.channels; ++k) {
+                const float v = interesting(rng);
+                if (f.bytesPerChannel() == 4) std::memcpy(compiled + 4 * k, &v, 4);
+              }
+            std::memcpy(general, compiled, 16);
+            detail::TargetBlender(f, state, constant, p, true, smallFloatBound).blend(src, compiled);
+            detail::TargetBlender(f, state, constant, p, false, smallFloatBound).blend(src, general);
+            if (std::memcmp(compiled, general, size_t(f.bytesPerTexel())) != 0)
+              FAIL(name << " " << p.describe() << " " << state.describe() << " small-float bound " << smallFloatBound
+                        << ": compiled " << texelBitsToString(f, compiled) << ", general "
+                        << texelBitsToString(f, general));
+            ++compared;
+          }
+  }
+  CHECK(compared == 12 * 4 * int(std::size(detail::states::kMethodBlendStates)) * 2 * 400);
+}
