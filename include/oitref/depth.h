@@ -9,9 +9,12 @@
 // compares as 0.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "oitref/unorm.h"
 
 namespace oitref {
 
@@ -33,10 +36,10 @@ DepthFormat parseDepthFormat(const std::string& name);   // "d16", "d24", "d32f"
 CompareFunc parseCompareFunc(const std::string& name);   // "less", "lequal", ...
 
 // Window z (double, any value) -> the buffer's stored representation.
-uint32_t encodeDepth(double windowZ, DepthFormat format);
+inline uint32_t encodeDepth(double windowZ, DepthFormat format);
 double decodeDepth(uint32_t stored, DepthFormat format);
 // Does a fragment with stored-format depth `fragment` pass against `stored`?
-bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format);
+inline bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format);
 
 class DepthBuffer {
  public:
@@ -58,6 +61,7 @@ class DepthBuffer {
   void clear(double z);
   int bytesPerTexel() const { return format_ == DepthFormat::D16 ? 2 : 4; }
   size_t sizeBytes() const { return size_t(width_) * height_ * bytesPerTexel(); }
+  bool allocated() const { return !d16_.empty() || !words_.empty(); }  // false once moved from
 
  private:
   DepthFormat format_;
@@ -65,5 +69,32 @@ class DepthBuffer {
   std::vector<uint16_t> d16_;    // d16 storage
   std::vector<uint32_t> words_;  // d24 (X8_D24) and d32f storage
 };
+
+// Inline: the fragment stage calls these per fragment, with the format and function fixed per draw.
+inline uint32_t encodeDepth(double windowZ, DepthFormat format) {
+  const double z = windowZ > 0.0 ? (windowZ < 1.0 ? windowZ : 1.0) : 0.0;  // the depth range; NaN -> 0
+  if (format == DepthFormat::D32F) return std::bit_cast<uint32_t>(float(z));
+  return roundHalfEven(z * double(format == DepthFormat::D16 ? 0xffffu : 0xffffffu));  // exact product, ties to even
+}
+
+inline bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format) {
+  // Clamped non-negative fp32 values order like their bit patterns, but compare as floats so the
+  // rule reads as written.
+  const bool isFloat = format == DepthFormat::D32F;
+  const float ff = std::bit_cast<float>(fragment), fs = std::bit_cast<float>(stored);
+  const bool less = isFloat ? ff < fs : fragment < stored;
+  const bool equal = isFloat ? ff == fs : fragment == stored;
+  switch (func) {
+    case CompareFunc::Never: return false;
+    case CompareFunc::Less: return less;
+    case CompareFunc::Equal: return equal;
+    case CompareFunc::LEqual: return less || equal;
+    case CompareFunc::Greater: return !less && !equal;
+    case CompareFunc::NotEqual: return !equal;
+    case CompareFunc::GEqual: return !less;
+    case CompareFunc::Always: return true;
+  }
+  return false;
+}
 
 }  // namespace oitref

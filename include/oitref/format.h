@@ -60,6 +60,11 @@ std::vector<std::string> builtinFormatNames();
 void encodeTexel(const Format& format, const glm::vec4& value, const Profile& profile, uint8_t* texel);
 // The texel's bytes -> exact fp32 values, missing channels filled as GL does.
 glm::vec4 decodeTexel(const Format& format, const uint8_t* texel);
+// decodeTexel for one format, chosen once (Image::fetch): a function compiled for the layout
+// when the format is r/rg/rgba in 8- or 16-bit UNORM, fp16 or fp32, else decodeTexel itself.
+// Same bits either way.
+using TexelDecoder = glm::vec4 (*)(const Format& format, const uint8_t* texel);
+TexelDecoder texelDecoder(const Format& format);
 // Copies channel c of `from` into `to` when bit c of mask is set (write masks on packed formats).
 void mergeTexelChannels(const Format& format, const uint8_t* from, uint8_t* to, unsigned mask);
 // The texel's bits as text: per channel in hex separated by spaces ("3c00 3800 0000 3c00"), one

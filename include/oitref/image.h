@@ -34,7 +34,7 @@ class Image {
   const std::vector<uint8_t>& bytes() const { return bytes_; }
 
   // texelFetch semantics: the stored value decoded exactly.
-  glm::vec4 fetch(int x, int y) const { return decodeTexel(format_, texel(x, y)); }
+  glm::vec4 fetch(int x, int y) const { return decoder_(format_, texel(x, y)); }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
   void store(int x, int y, const glm::vec4& value, const Profile& profile);
   // glClearBuffer: every texel gets the converted clear value.
@@ -46,6 +46,7 @@ class Image {
   Format format_{};
   int width_ = 0, height_ = 0;
   size_t texelBytes_ = 0;
+  TexelDecoder decoder_ = decodeTexel;
   std::vector<uint8_t> bytes_;
 };
 

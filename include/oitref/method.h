@@ -60,6 +60,8 @@ class MethodOptions {
   std::map<std::string, std::string> values_;
 };
 
+class AttachmentPool;
+
 struct FrameContext {
   const Scene& scene;
   const SceneGeometry& geometry;
@@ -69,6 +71,9 @@ struct FrameContext {
   // Bytes a frame may use. Checked up front against Method::memoryNeed (checkMemory), and by
   // methods whose storage is known only while rendering (the A-buffer's fragments).
   uint64_t memoryLimit = UINT64_MAX;
+  // Where the frame's attachments come from: a pool keeps them between frames, as a GL
+  // application keeps its render targets; without one, each frame allocates its own.
+  AttachmentPool* pool = nullptr;
 };
 
 // One item of what a frame allocates, for the memory check and its error message.
@@ -103,6 +108,26 @@ struct FrameResult {
 
   double frameMs() const;
   uint64_t fragmentsShaded() const;
+};
+
+// Colour images and depth buffers kept between frames. A frame takes what its method declares
+// (FrameTargets), and gives back its depth buffers when it ends and its colour images when the
+// caller recycles the FrameResult. What a taken attachment holds is undefined, as a new GL
+// texture's contents are: every method clears what it reads (checked by "methods: a pooled frame
+// gives the bits of a fresh one").
+class AttachmentPool {
+ public:
+  Image takeImage(const Format& format, int width, int height);
+  DepthBuffer takeDepth(DepthFormat format, int width, int height);
+  void give(Image&& image);
+  void give(DepthBuffer&& depth);
+  // Gives back every image of a finished frame (final8, finalFloat, dump) and empties it.
+  void recycle(FrameResult&& frame);
+  size_t size() const { return images_.size() + depths_.size(); }
+
+ private:
+  std::vector<Image> images_;
+  std::vector<DepthBuffer> depths_;
 };
 
 class Method {

@@ -172,6 +172,55 @@ void encodeTexel(const Format& f, const glm::vec4& v, const Profile& profile, ui
   }
 }
 
+namespace {
+
+// One channel of the unpacked encodings, by its rule (unorm.h, fp16_inline.h; fp32 as it is).
+template <ChannelEncoding E, int Bytes>
+float decodeChannel(const uint8_t* texel, int c) {
+  if constexpr (E == ChannelEncoding::Unorm) return decodeUnorm(loadChannel(texel, c, Bytes), 8 * Bytes);
+  else if constexpr (E == ChannelEncoding::Half) return detail::decodeHalfInline(uint16_t(loadChannel(texel, c, 2)));
+  else {
+    float v;
+    std::memcpy(&v, texel + 4 * c, 4);
+    return v;
+  }
+}
+
+template <ChannelEncoding E, int Bytes>
+glm::vec4 decodeChannels(int channels, const uint8_t* texel) {
+  glm::vec4 out(0.0f, 0.0f, 0.0f, 1.0f);
+  for (int c = 0; c < channels; ++c) out[c] = decodeChannel<E, Bytes>(texel, c);
+  return out;
+}
+
+template <ChannelEncoding E, int Bytes, int Channels>
+glm::vec4 decodeFixedLayout(const Format&, const uint8_t* texel) {
+  return decodeChannels<E, Bytes>(Channels, texel);
+}
+
+template <ChannelEncoding E, int Bytes>
+TexelDecoder decoderFor(int channels) {
+  return channels == 1 ? decodeFixedLayout<E, Bytes, 1>
+         : channels == 2 ? decodeFixedLayout<E, Bytes, 2>
+         : channels == 4 ? decodeFixedLayout<E, Bytes, 4>
+                         : decodeTexel;
+}
+
+}  // namespace
+
+TexelDecoder texelDecoder(const Format& f) {
+  if (f.isPacked()) return decodeTexel;
+  switch (f.encoding()) {
+    case ChannelEncoding::Unorm:
+      return f.unormBits(0) == 8 ? decoderFor<ChannelEncoding::Unorm, 1>(f.channels)
+             : f.unormBits(0) == 16 ? decoderFor<ChannelEncoding::Unorm, 2>(f.channels)
+                                    : decodeTexel;
+    case ChannelEncoding::Half: return decoderFor<ChannelEncoding::Half, 2>(f.channels);
+    case ChannelEncoding::Float32: return decoderFor<ChannelEncoding::Float32, 4>(f.channels);
+    default: return decodeTexel;
+  }
+}
+
 glm::vec4 decodeTexel(const Format& f, const uint8_t* texel) {
   glm::vec4 out(0.0f, 0.0f, 0.0f, 1.0f);
   switch (f.encoding()) {
@@ -180,16 +229,17 @@ glm::vec4 decodeTexel(const Format& f, const uint8_t* texel) {
         const uint32_t w = loadWord(texel);
         for (int c = 0; c < 4; ++c)
           out[c] = decodeUnorm((w >> kRgb10a2Shift[c]) & ((1u << kRgb10a2Bits[c]) - 1), kRgb10a2Bits[c]);
+      } else if (f.unormBits(0) == 8) {
+        out = decodeChannels<ChannelEncoding::Unorm, 1>(f.channels, texel);
       } else {
-        const int bits = f.unormBits(0);
-        for (int c = 0; c < f.channels; ++c) out[c] = decodeUnorm(loadChannel(texel, c, bits / 8), bits);
+        out = decodeChannels<ChannelEncoding::Unorm, 2>(f.channels, texel);
       }
       break;
     case ChannelEncoding::Half:
-      for (int c = 0; c < f.channels; ++c) out[c] = detail::decodeHalfInline(uint16_t(loadChannel(texel, c, 2)));
+      out = decodeChannels<ChannelEncoding::Half, 2>(f.channels, texel);
       break;
     case ChannelEncoding::Float32:
-      std::memcpy(&out[0], texel, 4 * f.channels);
+      out = decodeChannels<ChannelEncoding::Float32, 4>(f.channels, texel);
       break;
     case ChannelEncoding::PackedFloat11_10: {
       const uint32_t w = loadWord(texel);

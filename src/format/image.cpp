@@ -18,6 +18,7 @@ Image::Image(Format format, int width, int height) : format_(format), width_(wid
     throw std::invalid_argument("image size " + std::to_string(width) + "x" + std::to_string(height) +
                                 " outside 1.." + std::to_string(kMaxDimension));
   texelBytes_ = size_t(format.bytesPerTexel());
+  decoder_ = texelDecoder(format);
   bytes_.assign(imageBytes(format, width, height), 0);
 }
 

@@ -1,9 +1,9 @@
 // glcheck's side-by-side timing (`glcheck scene --time N`): one method's frame rendered by oitref
 // and by the GL driver in the same process, both already warm (the comparison ran them once),
 // runs alternated so that a clock or cache drift hits both alike. oitref's frame is what
-// Method::render costs: its attachments allocated and every pass. GL's frame is every pass and
-// glFinish, in one GlFrame kept across runs (programs, geometry and textures made once, as an
-// application keeps them). CPU time is the whole process's, so llvmpipe's worker threads count.
+// Method::render costs: every pass, with its attachments taken from an AttachmentPool kept across
+// runs. GL's frame is every pass and glFinish, in one GlFrame kept across runs (programs, geometry
+// and textures made once, as an application keeps them). CPU time is the whole process's, so llvmpipe's worker threads count.
 #pragma once
 
 #include <string>

@@ -48,7 +48,7 @@ class Abuffer final : public Method {
 
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets t(attachments(), context.width, context.height);
+    FrameTargets t(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(t);
     const int w = context.width, h = context.height;

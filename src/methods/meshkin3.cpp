@@ -34,7 +34,7 @@ class Meshkin3 final : public Method {
   }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets t(attachments(), context.width, context.height);
+    FrameTargets t(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(t);
     const Profile& profile = context.profile;

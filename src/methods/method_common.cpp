@@ -19,13 +19,23 @@ std::vector<AttachmentDecl> opaqueAttachments() {
           depthAttachment("depth", "opaque depth; transparent passes test against it")};
 }
 
-FrameTargets::FrameTargets(const std::vector<AttachmentDecl>& declared, int width, int height)
-    : analysis_(makeFormat(FormatId::RGBA32F), width, height) {
+FrameTargets::FrameTargets(const std::vector<AttachmentDecl>& declared, const FrameContext& context)
+    : pool_(context.pool) {
+  const int w = context.width, h = context.height;
+  auto image = [&](const Format& f) { return pool_ ? pool_->takeImage(f, w, h) : Image(f, w, h); };
+  analysis_ = image(makeFormat(FormatId::RGBA32F));
   for (const AttachmentDecl& d : declared) {
     order_.push_back(d.name);
-    if (d.isDepth) depths_.emplace(d.name, DepthBuffer(d.depthFormat, width, height));
-    else colors_.emplace(d.name, Image(d.format, width, height));
+    if (d.isDepth) depths_.emplace(d.name, pool_ ? pool_->takeDepth(d.depthFormat, w, h) : DepthBuffer(d.depthFormat, w, h));
+    else colors_.emplace(d.name, image(d.format));
   }
+}
+
+FrameTargets::~FrameTargets() {
+  if (!pool_) return;
+  for (auto& [name, depth] : depths_) pool_->give(std::move(depth));
+  for (auto& [name, image] : colors_) pool_->give(std::move(image));
+  pool_->give(std::move(analysis_));
 }
 
 Image& FrameTargets::color(const std::string& name) {

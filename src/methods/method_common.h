@@ -17,7 +17,12 @@ namespace oitref::methods {
 // the background ("opaque_float", see oitref/method.h).
 class FrameTargets {
  public:
-  FrameTargets(const std::vector<AttachmentDecl>& declared, int width, int height);
+  // From context.pool when there is one (contents undefined), else newly allocated.
+  FrameTargets(const std::vector<AttachmentDecl>& declared, const FrameContext& context);
+  // Gives what the frame did not move into its result back to the pool.
+  ~FrameTargets();
+  FrameTargets(const FrameTargets&) = delete;
+  FrameTargets& operator=(const FrameTargets&) = delete;
   Image& color(const std::string& name);
   DepthBuffer& depth(const std::string& name);
   Image& analysis() { return analysis_; }
@@ -32,6 +37,7 @@ class FrameTargets {
   std::map<std::string, DepthBuffer> depths_;
   std::vector<std::string> order_;
   Image analysis_;
+  AttachmentPool* pool_;
 };
 
 inline AttachmentDecl colorAttachment(std::string name, const std::string& format, std::string purpose) {

@@ -36,7 +36,7 @@ class LayeredNodes final : public Method {
   }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets t(attachments(), context.width, context.height);
+    FrameTargets t(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(t);
     const int k = k_;

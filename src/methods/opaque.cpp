@@ -11,7 +11,7 @@ class Opaque final : public Method {
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets targets(attachments(), context.width, context.height);
+    FrameTargets targets(attachments(), context);
     PassRunner(context, result).opaquePass(targets, /*everything=*/true);
     targets.finish(result, "opaque");
     return result;

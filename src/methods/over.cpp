@@ -12,7 +12,7 @@ class Over final : public Method {
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets targets(attachments(), context.width, context.height);
+    FrameTargets targets(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(targets);
     Framebuffer fb = targets.present(true);

@@ -28,7 +28,7 @@ class Peel final : public Method {
   }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets t(attachments(), context.width, context.height);
+    FrameTargets t(attachments(), context);
     PassRunner run(context, result);
     Image& layer = t.color("layer");
     Image& accum = t.color("accum");

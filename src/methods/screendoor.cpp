@@ -35,7 +35,7 @@ class Screendoor final : public Method {
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets t(attachments(), context.width, context.height);
+    FrameTargets t(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(t);
     Framebuffer fb = t.present(/*withDepth=*/true);

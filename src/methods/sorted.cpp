@@ -26,7 +26,7 @@ class Sorted final : public Method {
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets targets(attachments(), context.width, context.height);
+    FrameTargets targets(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(targets);
     const glm::mat4 view = context.scene.camera.view();

@@ -29,7 +29,7 @@ class Wavg final : public Method {
   }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets t(attachments(), context.width, context.height);
+    FrameTargets t(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(t);                                              // steps 1–3
     Image& accum = t.color("accum");

@@ -71,7 +71,7 @@ class Wboit final : public Method {
   }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
-    FrameTargets t(attachments(), context.width, context.height);
+    FrameTargets t(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(t);                                               // steps 1–3
     if (single_) {

@@ -11,8 +11,6 @@ namespace {
 
 constexpr const char* kCompareNames[] = {"never", "less", "equal", "lequal", "greater", "notequal", "gequal", "always"};
 
-double clampDepthRange(double z) { return z > 0.0 ? (z < 1.0 ? z : 1.0) : 0.0; }  // NaN -> 0
-
 uint32_t fixedMax(DepthFormat f) { return f == DepthFormat::D16 ? 0xffffu : 0xffffffu; }
 
 }  // namespace
@@ -42,35 +40,9 @@ CompareFunc parseCompareFunc(const std::string& name) {
                               "' (valid: never, less, equal, lequal, greater, notequal, gequal, always)");
 }
 
-uint32_t encodeDepth(double windowZ, DepthFormat format) {
-  const double z = clampDepthRange(windowZ);
-  if (format == DepthFormat::D32F) return std::bit_cast<uint32_t>(float(z));
-  return roundHalfEven(z * double(fixedMax(format)));  // exact product, ties to even
-}
-
 double decodeDepth(uint32_t stored, DepthFormat format) {
   if (format == DepthFormat::D32F) return double(std::bit_cast<float>(stored));
   return double(stored) / double(fixedMax(format));
-}
-
-bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format) {
-  // Clamped non-negative fp32 values order like their bit patterns, but compare as floats so the
-  // rule reads as written.
-  const bool isFloat = format == DepthFormat::D32F;
-  const float ff = std::bit_cast<float>(fragment), fs = std::bit_cast<float>(stored);
-  const bool less = isFloat ? ff < fs : fragment < stored;
-  const bool equal = isFloat ? ff == fs : fragment == stored;
-  switch (func) {
-    case CompareFunc::Never: return false;
-    case CompareFunc::Less: return less;
-    case CompareFunc::Equal: return equal;
-    case CompareFunc::LEqual: return less || equal;
-    case CompareFunc::Greater: return !less && !equal;
-    case CompareFunc::NotEqual: return !equal;
-    case CompareFunc::GEqual: return !less;
-    case CompareFunc::Always: return true;
-  }
-  return false;
 }
 
 DepthBuffer::DepthBuffer(DepthFormat format, int width, int height)

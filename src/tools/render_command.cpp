@@ -39,10 +39,12 @@ int runRender(const RenderOptions& o) {
   Renderer renderer(RendererOptions{o.threads, 64});
   const uint64_t limit = memoryLimitFrom(o.memoryLimit);
   checkMemory(*method, scene.width, scene.height, geometry, limit);
-  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, limit};
+  AttachmentPool pool;  // repeated frames reuse their attachments
+  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, limit, &pool};
   FrameResult result;
   std::vector<double> frameMs;
   for (int i = 0; i < o.repeat; ++i) {
+    pool.recycle(std::move(result));
     result = method->render(context);
     frameMs.push_back(result.frameMs());
   }

@@ -1,0 +1,39 @@
+// AttachmentPool: a frame whose attachments come from the pool, still holding another frame's
+// contents, has the bits of a frame rendered into fresh attachments, for every method: no method
+// reads an attachment before it clears or writes it.
+#include <catch2/catch.hpp>
+
+#include "method_fixture.h"
+#include "oitref/method.h"
+#include "tools/suite.h"
+
+using namespace oitref;
+
+TEST_CASE("methods: a pooled frame gives the bits of a fresh one", "[methods]") {
+  const Scene scene = test::testScene();
+  Scene other = scene;  // same size, different contents: what the pool holds before
+  other.background = {0.9f, 0.1f, 0.6f};
+  other.camera.position = {1.5f, -1.0f, 4.0f};
+  const SceneGeometry geometry = buildSceneGeometry(scene), otherGeometry = buildSceneGeometry(other);
+  Renderer renderer(RendererOptions{2, 16});
+  int methods = 0;
+  for (const MethodInfo& info : allMethods())
+    for (const Profile& profile : {exactProfile(), llvmpipeProfile()}) {
+      auto method = makeMethod(info.name);
+      const FrameResult fresh =
+          method->render(FrameContext{scene, geometry, scene.width, scene.height, profile, renderer});
+      AttachmentPool pool;
+      pool.recycle(method->render(
+          FrameContext{other, otherGeometry, other.width, other.height, profile, renderer, UINT64_MAX, &pool}));
+      const size_t kept = pool.size();
+      const FrameResult pooled =
+          method->render(FrameContext{scene, geometry, scene.width, scene.height, profile, renderer, UINT64_MAX, &pool});
+      INFO(info.name << " " << profile.describe());
+      CHECK(kept > 0);
+      // The frame took its colour attachments from the pool (the ray cast has none: it does not rasterize).
+      if (info.name != "raycast") CHECK(pool.size() < kept);
+      CHECK(tools::frameHash(pooled) == tools::frameHash(fresh));
+      methods += profile.describe() == exactProfile().describe();
+    }
+  CHECK(methods == int(allMethods().size()));
+}
