@@ -26,12 +26,14 @@ TEST_CASE("sha256: the FIPS 180-4 example vectors", "[reference]") {
 TEST_CASE("reference: every scene × method renders to the manifest's bits", "[reference]") {
   const auto manifest = tools::readManifest(OITREF_SOURCE_DIR "/reference/manifest.txt");
   REQUIRE(manifest.size() >= 7 * 9);
-  for (int threads : {1, 3}) {
-    Renderer renderer(RendererOptions{threads, 64});
+  // The per-fragment path (RendererOptions::perFragment) is the span path's oracle: both give the manifest's bits.
+  for (auto [threads, perFragment] : {std::pair{1, false}, {3, false}, {2, true}}) {
+    Renderer renderer(RendererOptions{threads, 64, perFragment});
     const auto entries = tools::renderReferences(OITREF_SOURCE_DIR "/scenes", renderer, "", false);
     REQUIRE(entries.size() == manifest.size());
     for (size_t i = 0; i < entries.size(); ++i) {
-      INFO(entries[i].scene << " " << entries[i].method << " with " << threads << " threads");
+      INFO(entries[i].scene << " " << entries[i].method << " with " << threads << " threads"
+                            << (perFragment ? ", per fragment" : ""));
       CHECK(entries[i].scene == manifest[i].scene);
       CHECK(entries[i].method == manifest[i].method);
       CHECK(entries[i].hash == manifest[i].hash);

@@ -53,6 +53,9 @@ struct DrawStats {
 struct RendererOptions {
   int threads = 0;      // 0: every hardware thread
   int tileSize = 64;    // pixels; a power of two from 8 to 256
+  // Hand fragments to the fragment operations one at a time instead of as row spans with batched
+  // blending: the same bits, slower; the oracle of the span path's tests.
+  bool perFragment = false;
 };
 
 // A renderer owns its worker arena and reuses its buffers between draws; one draw at a time.

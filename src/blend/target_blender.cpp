@@ -29,41 +29,39 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
   const bool integer = profile.unormBlend == UnormBlend::Integer && format.isUnorm();
   const bool nvidia = format.id != FormatId::Minifloat &&
                      (format.isUnorm() ? profile.unormBlend == UnormBlend::Nvidia : profile.floatBlend == FloatBlend::Nvidia);
-  if (mask_ == 0) kernel_ = maskedOffKernel;
-  else if (state.enabled && nvidia) kernel_ = nvidiaKernel;
+  if (mask_ == 0) use<maskedOffKernel>();
+  else if (state.enabled && nvidia) use<nvidiaKernel>();
   else if (state.enabled && integer) {
     unormPlan_ = planUnormInteger(format, state, constant, profile.unorm, mask_);
     unormBlend_ = unormIntegerBlendFor(unormPlan_, allowFastPath);
-    kernel_ = integerUnormKernel;
-  }
-  else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) {
+    use<integerUnormKernel>();
+  } else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) {
     llvmpipePlan_.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
     llvmpipePlan_.flushDenormals = flushDenormals_;
     llvmpipePlan_.fma = profile.fma;
     llvmpipeBlend_ = llvmpipeFloatBlendFor(llvmpipePlan_.shape, allowFastPath);
-    kernel_ = llvmpipeFloatKernel;
+    use<llvmpipeFloatKernel>();
     const int c = format.channels;
     if (allowFastPath && mask_ == all && (c == 1 || c == 2 || c == 4)) {
       if (format.encoding() == ChannelEncoding::Half)
-        kernel_ = c == 4 ? llvmpipeFloatTexelKernel<4, true> : c == 2 ? llvmpipeFloatTexelKernel<2, true> : llvmpipeFloatTexelKernel<1, true>;
+        c == 4 ? use<llvmpipeFloatTexelKernel<4, true>>() : c == 2 ? use<llvmpipeFloatTexelKernel<2, true>>() : use<llvmpipeFloatTexelKernel<1, true>>();
       else if (format.encoding() == ChannelEncoding::Float32)
-        kernel_ = c == 4 ? llvmpipeFloatTexelKernel<4, false> : c == 2 ? llvmpipeFloatTexelKernel<2, false> : llvmpipeFloatTexelKernel<1, false>;
+        c == 4 ? use<llvmpipeFloatTexelKernel<4, false>>() : c == 2 ? use<llvmpipeFloatTexelKernel<2, false>>() : use<llvmpipeFloatTexelKernel<1, false>>();
     }
-  }
-  else if (!allowFastPath || mask_ != all) kernel_ = genericKernel;
+  } else if (!allowFastPath || mask_ != all) use<genericKernel>();
   else {
     const int c = format.channels;
     switch (format.encoding()) {
       case ChannelEncoding::Unorm:
-        kernel_ = format.isPacked() || format.unormBits(0) != 8 ? genericKernel : c == 4 ? unorm8Kernel<4> : c == 2 ? unorm8Kernel<2> : unorm8Kernel<1>;
+        format.isPacked() || format.unormBits(0) != 8 ? use<genericKernel>() : c == 4 ? use<unorm8Kernel<4>>() : c == 2 ? use<unorm8Kernel<2>>() : use<unorm8Kernel<1>>();
         break;
       case ChannelEncoding::Half:
-        kernel_ = c == 4 ? halfKernel<4> : c == 2 ? halfKernel<2> : halfKernel<1>;
+        c == 4 ? use<halfKernel<4>>() : c == 2 ? use<halfKernel<2>>() : use<halfKernel<1>>();
         break;
       case ChannelEncoding::Float32:
-        kernel_ = c == 4 ? float32Kernel<4> : c == 2 ? float32Kernel<2> : float32Kernel<1>;
+        c == 4 ? use<float32Kernel<4>>() : c == 2 ? use<float32Kernel<2>>() : use<float32Kernel<1>>();
         break;
-      default: kernel_ = genericKernel;
+      default: use<genericKernel>();
     }
   }
 }
@@ -93,18 +91,26 @@ void TargetBlender::llvmpipeFloatKernel(const TargetBlender& b, const glm::vec4&
 
 // The same for fp16 and fp32 targets with every channel written, without the per-channel format
 // dispatch: decoding (fp16 exactly, via F16C where built with it) and encoding as encodeTexel does.
+// The destination is built in registers and stored whole: assembled channel by channel in memory,
+// the blend function's 16-byte load of it would wait for the narrower stores (store forwarding).
 template <int Channels, bool Half>
 void TargetBlender::llvmpipeFloatTexelKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  glm::vec4 d(0.0f, 0.0f, 0.0f, 1.0f);
   if constexpr (Half) {
     uint16_t h[4] = {0, 0, 0, 0x3c00};
     std::memcpy(h, texel, 2 * Channels);
-    for (int c = 0; c < Channels; ++c) d[c] = decodeHalfInline(h[c]);
+#if defined(OITREF_HAVE_F16C)
+    glm::vec4 d;
+    _mm_storeu_ps(&d[0], _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(h))));
+#else
+    const glm::vec4 d(decodeHalfInline(h[0]), decodeHalfInline(h[1]), decodeHalfInline(h[2]), decodeHalfInline(h[3]));
+#endif
     const glm::vec4 r = b.llvmpipeBlend_(b.llvmpipePlan_, b.rawConstant_, source, d);
     for (int c = 0; c < Channels; ++c) h[c] = encodeHalfInline(r[c], b.profile_.fp16);
     std::memcpy(texel, h, 2 * Channels);
   } else {
-    std::memcpy(&d[0], texel, 4 * Channels);
+    float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    std::memcpy(v, texel, 4 * Channels);
+    const glm::vec4 d(v[0], v[1], v[2], v[3]);
     const glm::vec4 r = b.llvmpipeBlend_(b.llvmpipePlan_, b.rawConstant_, source, d);
     std::memcpy(texel, &r[0], 4 * Channels);
   }

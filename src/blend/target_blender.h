@@ -31,9 +31,23 @@ class TargetBlender {
   TargetBlender(const Format& format, const BlendState& state, const glm::vec4& constant, const Profile& profile,
                 bool allowFastPath = true, bool smallFloatTargetBound = false);
   void blend(const glm::vec4& source, uint8_t* texel) const { kernel_(*this, source, texel); }
+  // blend(*sources[i], texels[i]) for i in [0, n), the kernel chosen once for the batch.
+  void blendBatch(const glm::vec4* const* sources, uint8_t* const* texels, int n) const {
+    batchKernel_(*this, sources, texels, n);
+  }
 
  private:
   using Kernel = void (*)(const TargetBlender&, const glm::vec4&, uint8_t*);
+  using BatchKernel = void (*)(const TargetBlender&, const glm::vec4* const*, uint8_t* const*, int);
+  template <Kernel K>
+  static void batchOf(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+    for (int i = 0; i < n; ++i) K(b, *sources[i], texels[i]);
+  }
+  template <Kernel K>
+  void use() {
+    kernel_ = K;
+    batchKernel_ = batchOf<K>;
+  }
   template <int Channels> static void unorm8Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <int Channels> static void halfKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <int Channels> static void float32Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
@@ -57,6 +71,7 @@ class TargetBlender {
   UnormIntegerPlan unormPlan_;
   UnormIntegerBlendFn unormBlend_ = nullptr;
   Kernel kernel_;
+  BatchKernel batchKernel_;
 };
 
 }  // namespace oitref::detail

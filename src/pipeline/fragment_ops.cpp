@@ -1,5 +1,7 @@
 #include "pipeline/fragment_ops.h"
 
+#include <algorithm>
+
 
 namespace oitref::detail {
 
@@ -19,6 +21,7 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
   const int n = geometry ? geometry->attributeCount : 0;
   vertexAttributes_.assign(size_t(3 * n), 0.0);
   attributes_.assign(size_t(n), 0.0f);
+  outputs_.resize(kBatch);
   // x_n = (x + ½ − vx)·(2/vw) − 1
   const double vw = viewport.x1 - viewport.x0, vh = viewport.y1 - viewport.y0;
   ndcScaleX_ = 2.0 / vw, ndcOffsetX_ = (0.5 - viewport.x0) * (2.0 / vw) - 1.0;
@@ -59,45 +62,112 @@ void FragmentStage::interpolateAttributes(const double* b) {
   for (int k = 0; k < n; ++k) attributes_[size_t(k)] = float(b[0] * va[k] + b[1] * va[n + k] + b[2] * va[2 * n + k]);
 }
 
-void FragmentStage::fragment(int x, int y) {
-  if (degenerate_) return;
-  const SetupTriangle& t = *triangle_;
-  const double xn = double(x) * ndcScaleX_ + ndcOffsetX_, yn = double(y) * ndcScaleY_ + ndcOffsetY_;
-  double k[3];
-  for (int i = 0; i < 3; ++i) k[i] = inverse_[i][0] * xn + inverse_[i][1] * yn + inverse_[i][2];
-  const double w = 1.0 / (k[0] + k[1] + k[2]);  // P.w, the view depth
-  const double b[3] = {k[0] * w, k[1] * w, k[2] * w};
-  const double clipZ = b[0] * clipZ_[0] + b[1] * clipZ_[1] + b[2] * clipZ_[2];
-  const double z = 0.5 * (clipZ / w) + 0.5;
-  const int n = int(attributes_.size());
+// The pixel centre's perspective-correct barycentrics b, view depth w and window z: the
+// expressions of the header comment, one rounding each in double. `span` evaluates them for a
+// whole batch in one loop (the compiler may use vector lanes: the same IEEE operations per lane).
+#define OITREF_INTERPOLATE(x, yn, w, b0, b1, b2, z)                                                       \
+  do {                                                                                                    \
+    const double xn_ = double(x) * ndcScaleX_ + ndcOffsetX_;                                              \
+    const double k0_ = inverse_[0][0] * xn_ + inverse_[0][1] * (yn) + inverse_[0][2];                     \
+    const double k1_ = inverse_[1][0] * xn_ + inverse_[1][1] * (yn) + inverse_[1][2];                     \
+    const double k2_ = inverse_[2][0] * xn_ + inverse_[2][1] * (yn) + inverse_[2][2];                     \
+    (w) = 1.0 / (k0_ + k1_ + k2_); /* P.w, the view depth */                                              \
+    (b0) = k0_ * (w), (b1) = k1_ * (w), (b2) = k2_ * (w);                                                 \
+    (z) = 0.5 * (((b0) * clipZ_[0] + (b1) * clipZ_[1] + (b2) * clipZ_[2]) / (w)) + 0.5;                   \
+  } while (0)
 
+FragmentInput FragmentStage::fragmentInput(int x, int y, double z, double w) const {
   FragmentInput in;
   in.x = x;
   in.y = y;
   in.fragCoord = {float(x) + 0.5f, float(y) + 0.5f};
   in.depth = float(z);
   in.viewDepth = float(w);
-  in.frontFacing = t.frontFacing;
-  in.primitiveId = t.primitiveId;
+  if (triangle_) {
+    in.frontFacing = triangle_->frontFacing;
+    in.primitiveId = triangle_->primitiveId;
+  }
   in.attributes = attributes_.data();
-  in.attributeCount = n;
+  in.attributeCount = int(attributes_.size());
+  return in;
+}
+
+void FragmentStage::fragment(int x, int y) {
+  if (degenerate_) return;
+  const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
+  double w, b[3], z;
+  OITREF_INTERPOLATE(x, yn, w, b[0], b[1], b[2], z);
+  FragmentInput in = fragmentInput(x, y, z, w);
   ++counters_.rasterized;
   process(in, z, b);
 }
 
+void FragmentStage::span(int y, int x0, int x1) {
+  if (degenerate_) return;
+  const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
+  for (int start = x0; start < x1; start += kBatch) {
+    const int n = std::min(kBatch, x1 - start);
+    double w[kBatch], b0[kBatch], b1[kBatch], b2[kBatch], z[kBatch];
+    for (int i = 0; i < n; ++i) OITREF_INTERPOLATE(start + i, yn, w[i], b0[i], b1[i], b2[i], z[i]);
+    int alive = 0;
+    for (int i = 0; i < n; ++i) {
+      FragmentInput in = fragmentInput(start + i, y, z[i], w[i]);
+      ++counters_.rasterized;
+      const double b[3] = {b0[i], b1[i], b2[i]};
+      if (shade(in, z[i], b, outputs_[size_t(alive)])) batchX_[alive++] = start + i;
+    }
+    blendBatch(y, alive);
+  }
+}
+
+void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
+  for (int start = x0; start < x1; start += kBatch) {
+    const int n = std::min(kBatch, x1 - start);
+    int alive = 0;
+    for (int i = 0; i < n; ++i) {
+      FragmentInput in = fragmentInput(start + i, y, 0.0, 1.0);
+      ++counters_.rasterized;
+      if (shade(in, 0.0, nullptr, outputs_[size_t(alive)])) batchX_[alive++] = start + i;
+    }
+    blendBatch(y, alive);
+  }
+}
+
+void FragmentStage::blendBatch(int y, int count) {
+  const glm::vec4* sources[kBatch];
+  uint8_t* texels[kBatch];
+  for (unsigned targets = boundTargets_; targets;) {
+    const int t = __builtin_ctz(targets);
+    targets &= targets - 1;
+    Image& image = *fb_.color[size_t(t)];
+    int n = 0;
+    for (int i = 0; i < count; ++i)
+      if (outputs_[size_t(i)].writtenMask() & (1u << t)) {
+        sources[n] = &outputs_[size_t(i)].color(t);
+        texels[n++] = image.texel(batchX_[i], y);
+      }
+    if (n) blenders_[size_t(t)].blendBatch(sources, texels, n);
+  }
+}
+
 void FragmentStage::fullscreenPixel(int x, int y) {
-  FragmentInput in;
-  in.x = x;
-  in.y = y;
-  in.fragCoord = {float(x) + 0.5f, float(y) + 0.5f};
-  in.depth = 0.0f;
-  in.viewDepth = 1.0f;
+  FragmentInput in = fragmentInput(x, y, 0.0, 1.0);
   ++counters_.rasterized;
   process(in, 0.0, nullptr);
 }
 
-// Attributes are interpolated only for fragments that reach the shader.
 void FragmentStage::process(FragmentInput& in, double z, const double* perspectiveBary) {
+  if (!shade(in, z, perspectiveBary, output_)) return;
+  unsigned targets = output_.writtenMask() & boundTargets_;
+  while (targets) {
+    const int t = __builtin_ctz(targets);
+    targets &= targets - 1;
+    blenders_[size_t(t)].blend(output_.color(t), fb_.color[size_t(t)]->texel(in.x, in.y));
+  }
+}
+
+// Attributes are interpolated only for fragments that reach the shader.
+bool FragmentStage::shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out) {
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
   const bool testing = depth != nullptr && ds.testEnabled;  // GL §17.3.4: no test, no depth write
@@ -106,36 +176,32 @@ void FragmentStage::process(FragmentInput& in, double z, const double* perspecti
   if (testing && earlyTests_) {
     if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
       ++counters_.depthFailed;
-      return;
+      return false;
     }
     if (ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
   }
 
   if (perspectiveBary) interpolateAttributes(perspectiveBary);
-  output_.reset();
-  program_.shader(in, output_);
+  out.reset();
+  program_.shader(in, out);
   ++counters_.shaded;
-  if (output_.discarded()) {
+  if (out.discarded()) {
     ++counters_.discarded;
-    return;
+    return false;
   }
 
   if (testing && !earlyTests_) {
-    if (output_.depthWritten()) fragmentDepth = encodeDepth(double(output_.depth()), depth->format());
+    if (out.depthWritten()) fragmentDepth = encodeDepth(double(out.depth()), depth->format());
     if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
       ++counters_.depthFailed;
-      return;
+      return false;
     }
     if (ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
   }
 
-  unsigned targets = output_.writtenMask() & boundTargets_;
-  if (targets) ++counters_.written;
-  while (targets) {
-    const int t = __builtin_ctz(targets);
-    targets &= targets - 1;
-    blenders_[size_t(t)].blend(output_.color(t), fb_.color[size_t(t)]->texel(in.x, in.y));
-  }
+  if (!(out.writtenMask() & boundTargets_)) return false;
+  ++counters_.written;
+  return true;
 }
 
 }  // namespace oitref::detail

@@ -38,12 +38,25 @@ class FragmentStage {
   void fragment(int x, int y);
   // A full-screen pass pixel: window depth 0, no attributes.
   void fullscreenPixel(int x, int y);
+  // The covered pixel centres [x0, x1) of row y of the current triangle (span), or of a full-screen
+  // pass (fullscreenSpan): the operations of fragment() and fullscreenPixel() for each, with the
+  // blending batched per target. The pixels of a span are distinct, so running every fragment's
+  // tests and shader before any blend changes nothing a fragment can see of its own pixel.
+  void span(int y, int x0, int x1);
+  void fullscreenSpan(int y, int x0, int x1);
 
   const FragmentCounters& counters() const { return counters_; }
 
  private:
   void process(FragmentInput& in, double z, const double* perspectiveBary);
+  // Everything before blending; true when the fragment reaches blending with `out`'s colours.
+  bool shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out);
   void interpolateAttributes(const double* b);
+  FragmentInput fragmentInput(int x, int y, double z, double w) const;
+  // Blends the batch's surviving fragments (outputs_[i] at x = batchX_[i] on row y), target by target.
+  void blendBatch(int y, int count);
+
+  static constexpr int kBatch = 64;
 
   Framebuffer& fb_;
   const PipelineState& state_;
@@ -61,6 +74,8 @@ class FragmentStage {
   std::vector<float> attributes_;         // interpolated, for the shader
   FragmentOutput output_;
   FragmentCounters counters_;
+  std::vector<FragmentOutput> outputs_;  // kBatch, for span()
+  int batchX_[kBatch];
 };
 
 }  // namespace oitref::detail

@@ -4,7 +4,7 @@
 
 namespace oitref::detail {
 
-void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, int subpixelBits,
+void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, int subpixelBits, bool perFragment,
                    FragmentStage& stage) {
   const int64_t S = int64_t(1) << subpixelBits;
   for (uint32_t k = bins.tileStart[size_t(tile)]; k < bins.tileStart[size_t(tile) + 1]; ++k) {
@@ -24,13 +24,20 @@ void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, in
     }
     for (int y = y0; y < y1; ++y) {
       int64_t e[3] = {rowStart[0], rowStart[1], rowStart[2]};
-      for (int x = x0; x < x1; ++x) {
-        if (((e[0] - bias[0]) | (e[1] - bias[1]) | (e[2] - bias[2])) >= 0) {
+      int runStart = -1;  // the covered pixels of a row: runs [runStart, x) handed over whole
+      for (int x = x0; x <= x1; ++x) {
+        const bool covered = x < x1 && ((e[0] - bias[0]) | (e[1] - bias[1]) | (e[2] - bias[2])) >= 0;
+        if (covered && runStart < 0) runStart = x;
+        if (!covered && runStart >= 0) {
           if (!begun) {
             stage.beginTriangle(t);
             begun = true;
           }
-          stage.fragment(x, y);
+          if (perFragment)
+            for (int px = runStart; px < x; ++px) stage.fragment(px, y);
+          else
+            stage.span(y, runStart, x);
+          runStart = -1;
         }
         e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2];
       }

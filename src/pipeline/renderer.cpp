@@ -200,7 +200,8 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
     workerParallelFor(size_t(grid.count()), [&](size_t tile) {
       if (bins.tileStart[tile] == bins.tileStart[tile + 1]) return;
       detail::FragmentStage stage(fb, state, program, &geometry, viewportRect(context));
-      detail::rasterizeTile(bins, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, stage);
+      detail::rasterizeTile(bins, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, options_.perFragment,
+                            stage);
       perTile[tile] = stage.counters();
     });
   });
@@ -220,8 +221,12 @@ DrawStats Renderer::drawFullscreen(Framebuffer& fb, const PipelineState& state, 
     workerParallelFor(size_t(grid.count()), [&](size_t tile) {
       detail::FragmentStage stage(fb, state, program, nullptr, viewportRect(context));
       const detail::PixelRect r = grid.tileRect(int(tile));
-      for (int y = r.y0; y < r.y1; ++y)
-        for (int x = r.x0; x < r.x1; ++x) stage.fullscreenPixel(x, y);
+      for (int y = r.y0; y < r.y1; ++y) {
+        if (options_.perFragment)
+          for (int x = r.x0; x < r.x1; ++x) stage.fullscreenPixel(x, y);
+        else
+          stage.fullscreenSpan(y, r.x0, r.x1);
+      }
       perTile[tile] = stage.counters();
     });
   });

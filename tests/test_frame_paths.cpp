@@ -1,6 +1,8 @@
-// AttachmentPool: a frame whose attachments come from the pool, still holding another frame's
-// contents, has the bits of a frame rendered into fresh attachments, for every method: no method
-// reads an attachment before it clears or writes it.
+// Ways of running a frame that exist for speed and must not change its bits:
+//  * AttachmentPool: a frame whose attachments come from the pool, still holding another frame's
+//    contents, has the bits of a frame rendered into fresh attachments, for every method (no
+//    method reads an attachment before it clears or writes it);
+//  * the span path (row spans, batched blending) against the per-fragment path, its oracle.
 #include <catch2/catch.hpp>
 
 #include "method_fixture.h"
@@ -36,4 +38,22 @@ TEST_CASE("methods: a pooled frame gives the bits of a fresh one", "[methods]") 
       methods += profile.describe() == exactProfile().describe();
     }
   CHECK(methods == int(allMethods().size()));
+}
+
+TEST_CASE("methods: the span path gives the per-fragment path's bits, every method and profile", "[methods]") {
+  const Scene scene = test::testScene();
+  const SceneGeometry geometry = buildSceneGeometry(scene);
+  Renderer spans(RendererOptions{2, 16}), perFragment(RendererOptions{2, 16, true});
+  int compared = 0;
+  for (const MethodInfo& info : allMethods())
+    for (const Profile& profile : {exactProfile(), llvmpipeProfile(), nvidiaProfile()}) {
+      auto method = makeMethod(info.name);
+      const FrameResult a = method->render(FrameContext{scene, geometry, scene.width, scene.height, profile, spans});
+      const FrameResult b = method->render(FrameContext{scene, geometry, scene.width, scene.height, profile, perFragment});
+      INFO(info.name << " " << profile.describe());
+      CHECK(tools::frameHash(a) == tools::frameHash(b));
+      CHECK(a.fragmentsShaded() == b.fragmentsShaded());
+      ++compared;
+    }
+  CHECK(compared == 3 * int(allMethods().size()));
 }
