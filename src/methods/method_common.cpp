@@ -88,11 +88,10 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
   st.profile = context_.profile;
   st.depth = {true, CompareFunc::Less, true, false};
   PassReport report{"opaque", 0, {}};
-  const glm::mat4 vp = viewProjection();
   for (const ScenePart& part : context_.geometry.parts) {
     if (part.transparent && !everything) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
-    report.stats += context_.renderer.draw(fb, st, toClipGeometry(part, vp),
+    report.stats += context_.renderer.draw(fb, st, clipGeometry(part),
                                            {[&](const FragmentInput& in, FragmentOutput& out) {
                                              const glm::vec4 c = shadeSurface(object, in.attributes);
                                              out.write(0, glm::vec4(glm::vec3(c), 1.0f));
@@ -103,11 +102,19 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
   result_.passes.push_back(report);
 }
 
+const Geometry& PassRunner::clipGeometry(const ScenePart& part) {
+  const std::vector<ScenePart>& parts = context_.geometry.parts;
+  const size_t i = size_t(&part - parts.data());
+  if (i >= parts.size()) throw std::logic_error("clipGeometry: the part is not one of the frame's scene geometry");
+  if (clipGeometry_.size() != parts.size()) clipGeometry_.resize(parts.size());
+  if (!clipGeometry_[i]) clipGeometry_[i] = std::make_unique<Geometry>(toClipGeometry(part, viewProjection()));
+  return *clipGeometry_[i];
+}
+
 void PassRunner::transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                                  const TransparentShader& shader, bool mayDiscard) {
   const auto t0 = std::chrono::steady_clock::now();
   PassReport report{name, 0, {}};
-  const glm::mat4 vp = viewProjection();
   for (const ScenePart& part : context_.geometry.parts) {
     if (!part.transparent) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
@@ -116,7 +123,7 @@ void PassRunner::transparentPass(const std::string& name, Framebuffer& fb, const
                               shader(in, shadeSurface(object, in.attributes), out);
                             },
                             mayDiscard, false, false};
-    report.stats += context_.renderer.draw(fb, state, toClipGeometry(part, vp), program);
+    report.stats += context_.renderer.draw(fb, state, clipGeometry(part), program);
   }
   report.ms = msSince(t0);
   result_.passes.push_back(report);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 
 #include "methods/power.h"
@@ -76,6 +77,9 @@ class PassRunner {
                        const TransparentShader& shader, bool mayDiscard = false);
   // Index (in the scene) of the object whose triangles are being drawn.
   size_t currentObject() const { return currentObject_; }
+  // The part's vertices through the vertex stage (toClipGeometry), computed once per frame: every
+  // pass of a frame draws the same clip-space geometry (peeling draws it once per layer).
+  const Geometry& clipGeometry(const ScenePart& part);
   // The composite of the weighted methods (thesis Algorithms 3, 4, 6): a full-screen pass whose
   // shader returns (colour, T) — or nothing to keep the background — blended into "opaque" and
   // the analysis copy with C = C_s·(1 − α_s) + C_d·α_s (alpha kept).
@@ -93,6 +97,7 @@ class PassRunner {
   const FrameContext& context_;
   FrameResult& result_;
   size_t currentObject_ = 0;
+  std::vector<std::unique_ptr<Geometry>> clipGeometry_;  // per part of context_.geometry, on first use
 };
 
 // The one-channel format with the same encoding as an RGBA one: "rgba16f" → "r16f",
