@@ -142,6 +142,7 @@ GlFrame::GlFrame(const GlContext& context, const FrameContext& frame, const std:
 }
 
 GlFrame::~GlFrame() {
+  if (!queries_.empty()) gl_.DeleteQueries(GLsizei(queries_.size()), queries_.data());
   for (auto& [key, fb] : framebuffers_) gl_.DeleteFramebuffers(1, &fb);
   for (auto& [key, p] : programs_) gl_.DeleteProgram(p);
   for (auto& [name, t] : textures_) gl_.DeleteTextures(1, &t.id);
@@ -259,7 +260,36 @@ void GlFrame::drawParts(GLuint program, bool transparent, bool everything) {
   gl_.BindVertexArray(0);
 }
 
+GlFrame::PassQuery::PassQuery(GlFrame& frame, const char* kind) : frame_(frame), active_(frame.timing_) {
+  if (!active_) return;
+  const size_t i = frame_.queryKinds_.size();
+  if (i == frame_.queries_.size()) {
+    GLuint q = 0;
+    frame_.gl_.GenQueries(1, &q);
+    frame_.queries_.push_back(q);
+  }
+  frame_.queryKinds_.push_back(kind);
+  frame_.gl_.BeginQuery(GL_TIME_ELAPSED, frame_.queries_[i]);
+}
+
+GlFrame::PassQuery::~PassQuery() {
+  if (active_) frame_.gl_.EndQuery(GL_TIME_ELAPSED);
+}
+
+std::vector<std::pair<std::string, double>> GlFrame::takePassTimes() {
+  std::vector<std::pair<std::string, double>> times;
+  for (size_t i = 0; i < queryKinds_.size(); ++i) {
+    GLuint64 ns = 0;
+    gl_.GetQueryObjectui64v(queries_[i], GL_QUERY_RESULT, &ns);
+    times.emplace_back(queryKinds_[i], double(ns) * 1e-6);
+  }
+  queryKinds_.clear();
+  context_.check("timer queries");
+  return times;
+}
+
 void GlFrame::opaquePass(bool everything) {
+  const PassQuery timed(*this, "opaque");
   const glm::vec4 background(frame_.scene.background, 1.0f);
   clear("opaque", background);
   clear("analysis", background);
@@ -280,6 +310,7 @@ void main() {
 
 void GlFrame::transparentPass(const std::string& main, const std::vector<std::string>& colours, const std::string& depth,
                               const PipelineState& state, const std::vector<GlInput>& inputs) {
+  const PassQuery timed(*this, "transparent");
   bindTargets(colours, depth);
   applyPipelineState(gl_, state, int(colours.size()));
   const GLuint p = program(kSceneVertexShader, main, colours.size(), inputs);
@@ -289,6 +320,12 @@ void GlFrame::transparentPass(const std::string& main, const std::vector<std::st
 }
 
 void GlFrame::fullscreenPass(const std::string& main, const std::vector<std::string>& colours, const PipelineState& state,
+                             const std::vector<GlInput>& inputs) {
+  const PassQuery timed(*this, "full-screen");
+  fullscreenDraw(main, colours, state, inputs);
+}
+
+void GlFrame::fullscreenDraw(const std::string& main, const std::vector<std::string>& colours, const PipelineState& state,
                              const std::vector<GlInput>& inputs) {
   bindTargets(colours, "");
   applyPipelineState(gl_, state, int(colours.size()));
@@ -304,7 +341,8 @@ void GlFrame::fullscreenPass(const std::string& main, const std::vector<std::str
 void GlFrame::blendOverBackground(const std::string& main, const std::vector<GlInput>& inputs) {
   PipelineState composite;
   composite.blend[0] = composite.blend[1] = methods::compositeBlend();
-  fullscreenPass(main, {"opaque", "analysis"}, composite, inputs);
+  const PassQuery timed(*this, "composite");
+  fullscreenDraw(main, {"opaque", "analysis"}, composite, inputs);
 }
 
 }  // namespace oitref::glcheck

@@ -65,7 +65,26 @@ class GlFrame {
   // `main` writes the resolved (colour, T) to o0 and o1, or discards: PassRunner::blendOverBackground.
   void blendOverBackground(const std::string& main, const std::vector<GlInput>& inputs);
 
+  // With timing on, each pass above runs inside a GL_TIME_ELAPSED timer query (the driver's own
+  // clock of the pass). takePassTimes, after the frame's glFinish, returns the frame's passes in
+  // order as (kind, ms): "opaque" (its clears included), "transparent", "full-screen", "composite".
+  void timePasses(bool on) { timing_ = on; }
+  std::vector<std::pair<std::string, double>> takePassTimes();
+
  private:
+  class PassQuery {  // one timer query around a pass, when timing
+   public:
+    PassQuery(GlFrame& frame, const char* kind);
+    ~PassQuery();
+    PassQuery(const PassQuery&) = delete;
+    PassQuery& operator=(const PassQuery&) = delete;
+
+   private:
+    GlFrame& frame_;
+    bool active_;
+  };
+  void fullscreenDraw(const std::string& main, const std::vector<std::string>& colours, const PipelineState& state,
+                      const std::vector<GlInput>& inputs);
   struct Texture {
     GLuint id = 0;
     bool isDepth = false;
@@ -91,6 +110,9 @@ class GlFrame {
   std::map<std::string, GLuint> programs_;
   std::vector<Part> parts_;
   GLuint emptyVao_ = 0;
+  bool timing_ = false;
+  std::vector<GLuint> queries_;           // timer queries, reused frame after frame
+  std::vector<std::string> queryKinds_;   // this frame's timed passes, in order
 };
 
 }  // namespace oitref::glcheck

@@ -69,7 +69,12 @@
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                          \
   X(PFNGLCOPYIMAGESUBDATAPROC, CopyImageSubData)                                                        \
   X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                              \
-  X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)
+  X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)                                                          \
+  X(PFNGLGENQUERIESPROC, GenQueries)                                                                    \
+  X(PFNGLDELETEQUERIESPROC, DeleteQueries)                                                              \
+  X(PFNGLBEGINQUERYPROC, BeginQuery)                                                                    \
+  X(PFNGLENDQUERYPROC, EndQuery)                                                                        \
+  X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)
 
 namespace oitref::glcheck {
 

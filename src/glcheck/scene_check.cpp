@@ -56,8 +56,8 @@ void printRow(std::ostream& out, const SceneCheckRow& r) {
 void printTimings(std::ostream& out, const std::vector<SceneCheckRow>& rows, const SceneCheckOptions& o, int threads) {
   char line[512];
   std::snprintf(line, sizeof line,
-                "  timing: %d runs each, alternated, after a warm run; %d thread(s) each; oitref's frame allocates "
-                "its attachments, GL's reuses one frame's (then glFinish)\n", o.timeRuns, threads);
+                "  timing: %d runs each, alternated, after a warm run; %d thread(s) each; both reuse their "
+                "attachments between runs (oitref: a pool; GL: one frame, then glFinish)\n", o.timeRuns, threads);
   out << line;
   std::snprintf(line, sizeof line, "  %-8s %11s %9s %11s %12s %9s %11s %9s %6s   %s\n", "method", "oitref ms", "wall med",
                 "CPU med", "GL ms", "wall med", "CPU med", "CPU ×", "wall ×", "oitref sha256 (frame)");
@@ -69,6 +69,23 @@ void printTimings(std::ostream& out, const std::vector<SceneCheckRow>& rows, con
                   a.minWallMs, a.medianWallMs, a.medianCpuMs, b.minWallMs, b.medianWallMs, b.medianCpuMs,
                   a.medianCpuMs / b.medianCpuMs, a.medianWallMs / b.medianWallMs, r.timing->sha256.substr(0, 16).c_str());
     out << line;
+  }
+  // Per pass: medians over the runs, summed per kind over a frame (×N: N passes of that kind).
+  out << "  passes, median ms (oitref: steady clock per pass; GL: GL_TIME_ELAPSED timer queries)\n";
+  auto list = [](const std::vector<PassTiming>& passes) {
+    std::string s;
+    char item[128];
+    for (const PassTiming& p : passes) {
+      std::snprintf(item, sizeof item, "%s%s %.2f", s.empty() ? "" : ", ", p.kind.c_str(), p.medianMs);
+      s += item;
+      if (p.perFrame > 1) s += " (×" + std::to_string(p.perFrame) + ")";
+    }
+    return s;
+  };
+  for (const SceneCheckRow& r : rows) {
+    if (!r.timing) continue;
+    out << "  " << r.method << "\n    oitref: " << list(r.timing->oitrefPasses) << "\n    GL:     " << list(r.timing->glPasses)
+        << "\n";
   }
 }
 

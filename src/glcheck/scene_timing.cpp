@@ -41,6 +41,43 @@ struct Samples {
   }
 };
 
+// Per-run pass times, grouped by kind: the name without a trailing " N" (a layer or pass number).
+struct PassSamples {
+  std::vector<std::string> kinds;                 // in first-seen order
+  std::vector<std::vector<double>> perRun;        // [kind][run]: summed over the frame
+  std::vector<int> perFrame;
+
+  void add(const std::vector<std::pair<std::string, double>>& frame) {
+    std::vector<double> sums(kinds.size(), 0.0);
+    std::vector<int> counts(kinds.size(), 0);
+    for (const auto& [name, ms] : frame) {
+      const size_t space = name.find_last_of(' ');
+      const bool numbered = space != std::string::npos && space + 1 < name.size() &&
+                            name.find_first_not_of("0123456789", space + 1) == std::string::npos;
+      const std::string kind = numbered ? name.substr(0, space) : name;
+      size_t k = size_t(std::find(kinds.begin(), kinds.end(), kind) - kinds.begin());
+      if (k == kinds.size()) {
+        kinds.push_back(kind);
+        perRun.emplace_back();
+        perFrame.push_back(0);
+        sums.push_back(0.0);
+        counts.push_back(0);
+      }
+      sums[k] += ms;
+      ++counts[k];
+    }
+    for (size_t k = 0; k < kinds.size(); ++k) {
+      perRun[k].push_back(sums[k]);
+      perFrame[k] = counts[k];
+    }
+  }
+  std::vector<PassTiming> stats() const {
+    std::vector<PassTiming> out;
+    for (size_t k = 0; k < kinds.size(); ++k) out.push_back({kinds[k], Samples::median(perRun[k]), perFrame[k]});
+    return out;
+  }
+};
+
 }  // namespace
 
 MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Method& method, GlMethod glMethod,
@@ -60,10 +97,15 @@ MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Met
   FrameContext pooled = frame;
   pooled.pool = &pool;
   pool.recycle(method.render(pooled));
+  PassSamples ourPasses, glPasses;
+  glFrame.timePasses(true);
   for (int run = 0; run < runs; ++run) {
     FrameResult result;  // emptied before the clock starts, hashed after it stops
     ours.measure([&] { result = method.render(pooled); });
     const std::string hash = tools::frameHash(result);
+    std::vector<std::pair<std::string, double>> passes;
+    for (const PassReport& p : result.passes) passes.emplace_back(p.name, p.ms);
+    ourPasses.add(passes);
     pool.recycle(std::move(result));
     if (timing.sha256.empty()) timing.sha256 = hash;
     // A speed-up must never come from changed bits, not even between runs of one process.
@@ -72,11 +114,15 @@ MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Met
       glMethod(glFrame, options);
       context.gl().Finish();
     });
+    glPasses.add(glFrame.takePassTimes());  // the queries' results, read after the clock stopped
   }
+  glFrame.timePasses(false);
   if (glFrame.read(presented).bytes() != firstGl.bytes())
     throw std::runtime_error(method.info().name + ": GL's frame changed between timed runs (a pass relies on an uncleared attachment)");
   timing.oitref = ours.stats();
   timing.gl = gl.stats();
+  timing.oitrefPasses = ourPasses.stats();
+  timing.glPasses = glPasses.stats();
   return timing;
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "glcheck/gl_methods.h"
 
@@ -16,8 +17,19 @@ struct TimingStats {
   double minWallMs = 0, medianWallMs = 0, minCpuMs = 0, medianCpuMs = 0;
 };
 
+// One kind of pass, its time summed over the frame (peeling's 32 "peel N" passes are one "peel"),
+// median over the runs.
+struct PassTiming {
+  std::string kind;
+  double medianMs = 0;
+  int perFrame = 0;  // passes of this kind in a frame
+};
+
 struct MethodTiming {
   TimingStats oitref, gl;
+  // oitref's passes as PassReport times them (steady clock around each pass); GL's by timer queries
+  // (GL_TIME_ELAPSED, the driver's clock): GL's kinds are opaque, transparent, full-screen, composite.
+  std::vector<PassTiming> oitrefPasses, glPasses;
   std::string sha256;  // of oitref's frame (tools::frameHash), equal in every run or it throws
 };
 
