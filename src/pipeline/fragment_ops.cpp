@@ -9,6 +9,7 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
                              const Geometry* geometry, const PixelRect& viewport)
     : fb_(fb), state_(state), program_(program), geometry_(geometry) {
   earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
+  earlyDepthTest_ = earlyTests_ && fb.depth != nullptr && state.depth.testEnabled;
   blenders_.reserve(kMaxColorTargets);
   bool smallFloatBound = false;  // llvmpipe keeps denormals for the whole draw then
   for (int t = 0; t < kMaxColorTargets; ++t)
@@ -109,12 +110,26 @@ void FragmentStage::span(int y, int x0, int x1) {
     const int n = std::min(kBatch, x1 - start);
     double w[kBatch], b0[kBatch], b1[kBatch], b2[kBatch], z[kBatch];
     for (int i = 0; i < n; ++i) OITREF_INTERPOLATE(start + i, yn, w[i], b0[i], b1[i], b2[i], z[i]);
+    counters_.rasterized += uint64_t(n);
+    // Early depth tests for the whole batch first: where most fragments are hidden, they end here.
+    bool passed[kBatch];
+    if (earlyDepthTest_) {
+      DepthBuffer& depth = *fb_.depth;
+      const DepthFormat format = depth.format();
+      const CompareFunc func = state_.depth.func;
+      for (int i = 0; i < n; ++i) {
+        const uint32_t d = encodeDepth(z[i], format);
+        passed[i] = depthTestPasses(func, d, depth.load(start + i, y), format);
+        if (passed[i] && state_.depth.writeMask) depth.store(start + i, y, d);
+        counters_.depthFailed += !passed[i];
+      }
+    }
     int alive = 0;
     for (int i = 0; i < n; ++i) {
+      if (earlyDepthTest_ && !passed[i]) continue;
       FragmentInput in = fragmentInput(start + i, y, z[i], w[i]);
-      ++counters_.rasterized;
       const double b[3] = {b0[i], b1[i], b2[i]};
-      if (shade(in, z[i], b, outputs_[size_t(alive)])) batchX_[alive++] = start + i;
+      if (shade(in, z[i], b, outputs_[size_t(alive)], earlyDepthTest_)) batchX_[alive++] = start + i;
     }
     blendBatch(y, alive);
   }
@@ -167,13 +182,14 @@ void FragmentStage::process(FragmentInput& in, double z, const double* perspecti
 }
 
 // Attributes are interpolated only for fragments that reach the shader.
-bool FragmentStage::shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out) {
+bool FragmentStage::shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out,
+                          bool earlyTestDone) {
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
   const bool testing = depth != nullptr && ds.testEnabled;  // GL §17.3.4: no test, no depth write
   uint32_t fragmentDepth = testing ? encodeDepth(z, depth->format()) : 0;
 
-  if (testing && earlyTests_) {
+  if (testing && earlyTests_ && !earlyTestDone) {
     if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
       ++counters_.depthFailed;
       return false;

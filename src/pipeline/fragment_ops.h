@@ -50,7 +50,8 @@ class FragmentStage {
  private:
   void process(FragmentInput& in, double z, const double* perspectiveBary);
   // Everything before blending; true when the fragment reaches blending with `out`'s colours.
-  bool shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out);
+  // `earlyTestDone`: the caller ran the early depth test (and write) already.
+  bool shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out, bool earlyTestDone = false);
   void interpolateAttributes(const double* b);
   FragmentInput fragmentInput(int x, int y, double z, double w) const;
   // Blends the batch's surviving fragments (outputs_[i] at x = batchX_[i] on row y), target by target.
@@ -68,6 +69,7 @@ class FragmentStage {
   bool degenerate_ = false;
   double ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_;
   bool earlyTests_;
+  bool earlyDepthTest_;  // early tests, and a depth test to run
   unsigned boundTargets_ = 0;
   std::vector<TargetBlender> blenders_;  // per bound target, in target order
   std::vector<double> vertexAttributes_;  // 3 × attributeCount, of the original vertices
