@@ -4,6 +4,8 @@
 
 namespace oitref::detail {
 
+constexpr int kMinSpan = 4;
+
 void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, int subpixelBits, bool perFragment,
                    FragmentStage& stage) {
   const int64_t S = int64_t(1) << subpixelBits;
@@ -22,24 +24,25 @@ void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, in
       stepX[i] = t.edgeA[i] * S;
       rowStart[i] = t.edgeA[i] * px + t.edgeB[i] * py + t.edgeC[i];
     }
+    auto covered = [&](const int64_t* e) { return ((e[0] - bias[0]) | (e[1] - bias[1]) | (e[2] - bias[2])) >= 0; };
     for (int y = y0; y < y1; ++y) {
       int64_t e[3] = {rowStart[0], rowStart[1], rowStart[2]};
-      int runStart = -1;  // the covered pixels of a row: runs [runStart, x) handed over whole
-      for (int x = x0; x <= x1; ++x) {
-        const bool covered = x < x1 && ((e[0] - bias[0]) | (e[1] - bias[1]) | (e[2] - bias[2])) >= 0;
-        if (covered && runStart < 0) runStart = x;
-        if (!covered && runStart >= 0) {
-          if (!begun) {
-            stage.beginTriangle(t);
-            begun = true;
-          }
-          if (perFragment)
-            for (int px = runStart; px < x; ++px) stage.fragment(px, y);
-          else
-            stage.span(y, runStart, x);
-          runStart = -1;
+      // The row's runs of covered pixels, each handed over whole (one per row: the coverage of a
+      // triangle is convex, but nothing here relies on it).
+      for (int x = x0; x < x1;) {
+        while (x < x1 && !covered(e)) ++x, e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2];
+        const int runStart = x;
+        while (x < x1 && covered(e)) ++x, e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2];
+        if (x == runStart) break;
+        if (!begun) {
+          stage.beginTriangle(t);
+          begun = true;
         }
-        e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2];
+        // Runs shorter than kMinSpan (small triangles) cost less one fragment at a time.
+        if (perFragment || x - runStart < kMinSpan)
+          for (int px = runStart; px < x; ++px) stage.fragment(px, y);
+        else
+          stage.span(y, runStart, x);
       }
       for (int i = 0; i < 3; ++i) rowStart[i] += t.edgeB[i] * S;
     }
