@@ -7,6 +7,10 @@
 
 #include <utility>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include "blend/blend_math.h"
 #include "blend/method_blend_states.h"
 
@@ -25,6 +29,23 @@ struct Vec {
   static Vec one() { return {One, glm::vec4(1.0f)}; }
   static Vec of(const glm::vec4& x) { return {Value, x}; }
 };
+
+// x·y + z rounded once, per lane (IEEE fusedMultiplyAdd): the CPU's FMA instruction where it has
+// one (chosen at run time; the build does not assume FMA), else std::fma. The same bits either
+// way; NaN results are then replaced by the stated rule (x86Nan), so their payloads do not depend
+// on the path either.
+#if defined(__x86_64__)
+[[gnu::target("fma")]] v4f fusedMultiplyAdd4Hardware(v4f x, v4f y, v4f z) {
+  return (v4f)_mm_fmadd_ps((__m128)x, (__m128)y, (__m128)z);
+}
+#endif
+v4f fusedMultiplyAdd4(v4f x, v4f y, v4f z) {
+#if defined(__x86_64__)
+  static const bool hardware = __builtin_cpu_supports("fma");
+  if (hardware) return fusedMultiplyAdd4Hardware(x, y, z);
+#endif
+  return v4f{std::fma(x[0], y[0], z[0]), std::fma(x[1], y[1], z[1]), std::fma(x[2], y[2], z[2]), std::fma(x[3], y[3], z[3])};
+}
 
 // llvmpipe's generated code runs with the x86 MXCSR's DAZ and FTZ bits set (unless a small-float
 // target is bound): a denormal operand reads as a zero of its sign, and a result that is tiny
@@ -69,13 +90,15 @@ class Arith {
   // lp_build_mad: llvm.fmuladd, one rounding on CPUs with FMA.
   LP_INLINE Vec mad(const Vec& a, const Vec& b, const Vec& c) const {
     if (!fma_) return add(mul(a, b), c);
-    Vec r = Vec::of(glm::vec4(0.0f));
+    const v4f x = daz4(load4(a.v)), y = daz4(load4(b.v)), z = daz4(load4(c.v));
+    v4f r = fusedMultiplyAdd4(x, y, z);
     for (int i = 0; i < 4; ++i) {
-      const float x = daz(a.v[i]), y = daz(b.v[i]), z = daz(c.v[i]);
-      r.v[i] = ftz([&](float k) { return std::fma(x * k, y, z * k); });
-      if (r.v[i] != r.v[i]) r.v[i] = x86Nan(x, y, x86Nan(z, z, std::bit_cast<float>(0xffc00000u)));
+      if (r[i] != r[i]) r[i] = x86Nan(x[i], y[i], x86Nan(z[i], z[i], std::bit_cast<float>(0xffc00000u)));
+      const float m = std::fabs(r[i]);
+      if (flush_ && m != 0.0f && m <= 0x1p-126f)  // may be tiny: the scalar rule
+        r[i] = ftz([&](float k) { return std::fma(x[i] * k, y[i], z[i] * k); });
     }
-    return r;
+    return Vec::of(store4(r));
   }
   LP_INLINE Vec lerp(const Vec& x, const Vec& v0, const Vec& v1) const { return mad(x, sub(v1, v0), v0); }
 
