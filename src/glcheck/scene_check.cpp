@@ -71,7 +71,13 @@ void printTimings(std::ostream& out, const std::vector<SceneCheckRow>& rows, con
     out << line;
   }
   // Per pass: medians over the runs, summed per kind over a frame (×N: N passes of that kind).
-  out << "  passes, median ms (oitref: steady clock per pass; GL: GL_TIME_ELAPSED timer queries)\n";
+  static const double bandwidth = measureMemoryBandwidth();  // GB/s, measured once per process
+  std::snprintf(line, sizeof line,
+                "  passes, median ms (oitref: steady clock per pass; GL: GL_TIME_ELAPSED timer queries)\n"
+                "  memory bandwidth (one thread, memcpy of 256 MiB, bytes read + written): %.1f GB/s; a composite\n"
+                "  reads every attachment once and reads and writes the presented targets: its floor is given\n",
+                bandwidth);
+  out << line;
   auto list = [](const std::vector<PassTiming>& passes) {
     std::string s;
     char item[128];
@@ -84,8 +90,9 @@ void printTimings(std::ostream& out, const std::vector<SceneCheckRow>& rows, con
   };
   for (const SceneCheckRow& r : rows) {
     if (!r.timing) continue;
-    out << "  " << r.method << "\n    oitref: " << list(r.timing->oitrefPasses) << "\n    GL:     " << list(r.timing->glPasses)
-        << "\n";
+    std::snprintf(line, sizeof line, " (composite floor %.2f ms)", r.timing->compositeTrafficBytes / (bandwidth * 1e6));
+    out << "  " << r.method << line << "\n    oitref: " << list(r.timing->oitrefPasses)
+        << "\n    GL:     " << list(r.timing->glPasses) << "\n";
   }
 }
 

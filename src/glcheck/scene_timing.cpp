@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -80,6 +81,28 @@ struct PassSamples {
 
 }  // namespace
 
+double measureMemoryBandwidth() {
+  const size_t bytes = size_t(256) << 20;
+  std::vector<uint8_t> from(bytes, 1), to(bytes, 0);  // touched: no page faults inside the clock
+  double best = 1e300;
+  for (int i = 0; i < 5; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::memcpy(to.data(), from.data(), bytes);
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    from[size_t(i)] = to[bytes - 1 - size_t(i)];  // the copies depend on each other: none is elided
+  }
+  return 2.0 * double(bytes) / best * 1e-9;
+}
+
+double compositeTrafficBytes(const std::vector<AttachmentDecl>& attachments, int width, int height) {
+  const double pixels = double(width) * double(height);
+  double perPixel = 0;
+  for (const AttachmentDecl& a : attachments)
+    perPixel += a.isDepth ? (a.depthFormat == DepthFormat::D16 ? 2 : 4) : a.format.bytesPerTexel();
+  perPixel += 4 + 16 + 16;  // the presented RGBA8 ("opaque", counted once above) written, the analysis copy read and written
+  return perPixel * pixels;
+}
+
 MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Method& method, GlMethod glMethod,
                         const MethodOptions& options, int runs) {
   if (runs < 1) throw std::invalid_argument("--time needs at least one run");
@@ -121,6 +144,7 @@ MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Met
     throw std::runtime_error(method.info().name + ": GL's frame changed between timed runs (a pass relies on an uncleared attachment)");
   timing.oitref = ours.stats();
   timing.gl = gl.stats();
+  timing.compositeTrafficBytes = compositeTrafficBytes(method.attachments(), frame.width, frame.height);
   timing.oitrefPasses = ourPasses.stats();
   timing.glPasses = glPasses.stats();
   return timing;

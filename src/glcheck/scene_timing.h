@@ -31,7 +31,17 @@ struct MethodTiming {
   // (GL_TIME_ELAPSED, the driver's clock): GL's kinds are opaque, transparent, full-screen, composite.
   std::vector<PassTiming> oitrefPasses, glPasses;
   std::string sha256;  // of oitref's frame (tools::frameHash), equal in every run or it throws
+  double compositeTrafficBytes = 0;
 };
+
+// The machine's memory bandwidth for one thread: the best of a few memcpy calls of 256 MiB,
+// counting each byte read and written (GB/s, 10^9 bytes).
+double measureMemoryBandwidth();
+
+// The least memory traffic of a frame's composite, which reads every attachment the method
+// declares once and reads and writes the two presented targets (RGBA8 and the RGBA32F analysis
+// copy): bytes. Over the bandwidth, the time below which no full-screen composite can go.
+double compositeTrafficBytes(const std::vector<AttachmentDecl>& attachments, int width, int height);
 
 MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Method& method, GlMethod glMethod,
                         const MethodOptions& options, int runs);
