@@ -111,19 +111,15 @@ const Geometry& PassRunner::clipGeometry(const ScenePart& part) {
   return *clipGeometry_[i];
 }
 
-void PassRunner::transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
-                                 const TransparentShader& shader, bool mayDiscard) {
+void PassRunner::drawTransparent(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                                 const std::function<FragmentProgram(const SceneObject&)>& programFor) {
   const auto t0 = std::chrono::steady_clock::now();
   PassReport report{name, 0, {}};
   for (const ScenePart& part : context_.geometry.parts) {
     if (!part.transparent) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
     currentObject_ = part.objectIndex;
-    FragmentProgram program{[&](const FragmentInput& in, FragmentOutput& out) {
-                              shader(in, shadeSurface(object, in.attributes), out);
-                            },
-                            mayDiscard, false, false};
-    report.stats += context_.renderer.draw(fb, state, clipGeometry(part), program);
+    report.stats += context_.renderer.draw(fb, state, clipGeometry(part), programFor(object));
   }
   report.ms = msSince(t0);
   result_.passes.push_back(report);
@@ -137,18 +133,11 @@ void PassRunner::fullscreenPass(const std::string& name, Framebuffer& fb, const 
   result_.passes.push_back(report);
 }
 
-void PassRunner::blendOverBackground(FrameTargets& targets,
-                                     const std::function<bool(const FragmentInput&, glm::vec4&)>& source) {
-  Framebuffer out = targets.present(false);
+PipelineState PassRunner::compositeState() const {
   PipelineState composite;
   composite.profile = context_.profile;
   composite.blend[0] = composite.blend[1] = compositeBlend();
-  fullscreenPass("composite", out, composite, [&](const FragmentInput& in, FragmentOutput& o) {
-    glm::vec4 s;
-    if (!source(in, s)) return;
-    o.write(0, s);
-    o.write(1, s);
-  });
+  return composite;
 }
 
 void PassRunner::compositeOntoBackgrounds(FrameTargets& targets, const std::string& name, const ShaderComposite& resolve) {
@@ -166,18 +155,18 @@ void PassRunner::compositeOntoBackgrounds(FrameTargets& targets, const std::stri
   });
 }
 
-void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const FragmentWeight& weight) {
+Framebuffer weightedAccumulationTargets(FrameTargets& targets, Image& accum, Image& reveal) {
   Framebuffer fb;
   fb.color[0] = &accum;
   fb.color[1] = &reveal;
   fb.depth = &targets.depth("depth");
-  PipelineState st = transparentState(run.context().profile, additiveBlend());
+  return fb;
+}
+
+PipelineState weightedAccumulationState(const Profile& profile) {
+  PipelineState st = transparentState(profile, additiveBlend());
   st.blend[1] = revealageBlend();
-  run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
-    const float w = weight(in, c);
-    out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
-    out.write(1, glm::vec4(c.a));
-  });
+  return st;
 }
 
 void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal) {

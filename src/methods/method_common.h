@@ -59,8 +59,6 @@ inline AttachmentDecl depthAttachment(std::string name, std::string purpose) {
 // "opaque" RGBA8 and "depth" d24: the start of every method's list.
 std::vector<AttachmentDecl> opaqueAttachments();
 
-// Straight colour of the fragment's object: the shading function shared with the ray caster.
-using TransparentShader = std::function<void(const FragmentInput&, const glm::vec4& color, FragmentOutput&)>;
 
 class PassRunner {
  public:
@@ -71,10 +69,21 @@ class PassRunner {
   // Clears opaque (and the analysis copy) to the background and depth to 1, then draws the
   // opaque objects (every object when `everything`) with depth test LESS and writes; alpha 1.
   void opaquePass(FrameTargets& targets, bool everything = false);
-  // Draws the transparent objects in submission order into fb with `state`; the shader gets
-  // each fragment's straight colour from the object's shading function.
-  void transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
-                       const TransparentShader& shader, bool mayDiscard = false);
+  // Draws the transparent objects in submission order into fb with `state`; the shader,
+  // shader(const FragmentInput&, const glm::vec4& color, FragmentOutput&), gets each fragment's
+  // straight colour from the object's shading function (shadeSurface, shared with the ray caster).
+  // A template so that the method's shader is compiled into the fragment program: one indirect
+  // call per fragment, not one per layer of lambdas.
+  template <typename Shader>
+  void transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const Shader& shader,
+                       bool mayDiscard = false) {
+    drawTransparent(name, fb, state, [&](const SceneObject& object) {
+      return FragmentProgram{[&object, &shader](const FragmentInput& in, FragmentOutput& out) {
+                               shader(in, shadeSurface(object, in.attributes), out);
+                             },
+                             mayDiscard, false, false};
+    });
+  }
   // Index (in the scene) of the object whose triangles are being drawn.
   size_t currentObject() const { return currentObject_; }
   // The part's vertices through the vertex stage (toClipGeometry), computed once per frame: every
@@ -83,7 +92,17 @@ class PassRunner {
   // The composite of the weighted methods (thesis Algorithms 3, 4, 6): a full-screen pass whose
   // shader returns (colour, T) — or nothing to keep the background — blended into "opaque" and
   // the analysis copy with C = C_s·(1 − α_s) + C_d·α_s (alpha kept).
-  void blendOverBackground(FrameTargets& targets, const std::function<bool(const FragmentInput&, glm::vec4&)>& source);
+  // source(const FragmentInput&, glm::vec4& colourAndT) -> bool.
+  template <typename Source>
+  void blendOverBackground(FrameTargets& targets, const Source& source) {
+    Framebuffer out = targets.present(false);
+    fullscreenPass("composite", out, compositeState(), [&source](const FragmentInput& in, FragmentOutput& o) {
+      glm::vec4 s;
+      if (!source(in, s)) return;
+      o.write(0, s);
+      o.write(1, s);
+    });
+  }
   // The composite of the methods that blend in the shader (A-buffer, hybrid, MLAB, DFAOIT): a
   // full-screen pass named `name` whose `resolve` gets the pixel's background in each presented
   // target — [0] the RGBA8 "opaque", [1] the RGBA32F analysis copy — and returns the composite
@@ -96,6 +115,11 @@ class PassRunner {
  private:
   const FrameContext& context_;
   FrameResult& result_;
+  // transparentPass's body: programFor(object) is the fragment program of the object's draw.
+  void drawTransparent(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                       const std::function<FragmentProgram(const SceneObject&)>& programFor);
+  PipelineState compositeState() const;  // compositeBlend() on both presented targets
+
   size_t currentObject_ = 0;
   std::vector<std::unique_ptr<Geometry>> clipGeometry_;  // per part of context_.geometry, on first use
 };
@@ -113,8 +137,19 @@ inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
 // The accumulation pass of McGuire–Bavoil eq. 6 (listing 3), which WBOIT, MBOIT and MT share:
 // accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,
 // ONE_MINUS_SRC_COLOR, against the opaque depth; `weight` gives each fragment's w.
-using FragmentWeight = std::function<float(const FragmentInput&, const glm::vec4& color)>;
-void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const FragmentWeight& weight);
+// weight(const FragmentInput&, const glm::vec4& color) -> float.
+Framebuffer weightedAccumulationTargets(FrameTargets& targets, Image& accum, Image& reveal);
+PipelineState weightedAccumulationState(const Profile& profile);
+template <typename Weight>
+void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weight& weight) {
+  Framebuffer fb = weightedAccumulationTargets(targets, accum, reveal);
+  run.transparentPass("accumulate", fb, weightedAccumulationState(run.context().profile),
+                      [&weight](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
+                        const float w = weight(in, c);
+                        out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
+                        out.write(1, glm::vec4(c.a));
+                      });
+}
 
 // The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal)
 // blended over the background (PassRunner::blendOverBackground).
