@@ -92,12 +92,16 @@ class Arith {
     if (!fma_) return add(mul(a, b), c);
     const v4f x = daz4(load4(a.v)), y = daz4(load4(b.v)), z = daz4(load4(c.v));
     v4f r = fusedMultiplyAdd4(x, y, z);
-    for (int i = 0; i < 4; ++i) {
-      if (r[i] != r[i]) r[i] = x86Nan(x[i], y[i], x86Nan(z[i], z[i], std::bit_cast<float>(0xffc00000u)));
-      const float m = std::fabs(r[i]);
-      if (flush_ && m != 0.0f && m <= 0x1p-126f)  // may be tiny: the scalar rule
-        r[i] = ftz([&](float k) { return std::fma(x[i] * k, y[i], z[i] * k); });
-    }
+    // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
+    const v4i magnitude = (v4i)r & 0x7fffffff;
+    const v4i special = (magnitude > 0x7f800000) | (flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : v4i{});
+    if (special[0] | special[1] | special[2] | special[3])
+      for (int i = 0; i < 4; ++i) {
+        if (r[i] != r[i]) r[i] = x86Nan(x[i], y[i], x86Nan(z[i], z[i], std::bit_cast<float>(0xffc00000u)));
+        const float m = std::fabs(r[i]);
+        if (flush_ && m != 0.0f && m <= 0x1p-126f)  // may be tiny: the scalar rule
+          r[i] = ftz([&](float k) { return std::fma(x[i] * k, y[i], z[i] * k); });
+      }
     return Vec::of(store4(r));
   }
   LP_INLINE Vec lerp(const Vec& x, const Vec& v0, const Vec& v1) const { return mad(x, sub(v1, v0), v0); }
@@ -122,14 +126,16 @@ class Arith {
   LP_INLINE Vec lanes(const Vec& a, const Vec& b, Op op) const {
     const v4f x = daz4(load4(a.v)), y = daz4(load4(b.v));
     v4f r = op(x, y, splat(1.0f));
-    if (r[0] != r[0] || r[1] != r[1] || r[2] != r[2] || r[3] != r[3])
-      for (int i = 0; i < 4; ++i) r[i] = x86Nan(x[i], y[i], r[i]);
-    if (flush_) {
-      const v4i tiny = (((v4i)r & 0x7fffffff) <= 0x00800000) & (((v4i)r & 0x7fffffff) != 0);
-      if (tiny[0] | tiny[1] | tiny[2] | tiny[3])
-        for (int i = 0; i < 4; ++i)
-          if (tiny[i]) r[i] = ftz([&](float k) { return op(x[i], y[i], k); });
-    }
+    // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
+    const v4i magnitude = (v4i)r & 0x7fffffff;
+    const v4i nan = magnitude > 0x7f800000;
+    const v4i tiny = flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : v4i{};
+    const v4i special = nan | tiny;
+    if (special[0] | special[1] | special[2] | special[3])
+      for (int i = 0; i < 4; ++i) {
+        if (nan[i]) r[i] = x86Nan(x[i], y[i], r[i]);
+        if (tiny[i]) r[i] = ftz([&](float k) { return op(x[i], y[i], k); });
+      }
     return Vec::of(store4(r));
   }
   // x86's NaN propagation, stated so that it does not depend on how the compiler orders the
