@@ -3,24 +3,28 @@
 
 namespace oitref {
 
-Image AttachmentPool::takeImage(const Format& format, int width, int height) {
-  for (size_t i = 0; i < images_.size(); ++i)
-    if (images_[i].format() == format && images_[i].width() == width && images_[i].height() == height) {
-      Image image = std::move(images_[i]);
-      images_.erase(images_.begin() + std::ptrdiff_t(i));
-      return image;
+namespace {
+
+// The first kept item with the format and size asked for, moved out of `kept`; else a new one.
+template <typename T, typename Format>
+T takeMatching(std::vector<T>& kept, const Format& format, int width, int height) {
+  for (size_t i = 0; i < kept.size(); ++i)
+    if (kept[i].format() == format && kept[i].width() == width && kept[i].height() == height) {
+      T item = std::move(kept[i]);
+      kept.erase(kept.begin() + std::ptrdiff_t(i));
+      return item;
     }
-  return Image(format, width, height);
+  return T(format, width, height);
+}
+
+}  // namespace
+
+Image AttachmentPool::takeImage(const Format& format, int width, int height) {
+  return takeMatching(images_, format, width, height);
 }
 
 DepthBuffer AttachmentPool::takeDepth(DepthFormat format, int width, int height) {
-  for (size_t i = 0; i < depths_.size(); ++i)
-    if (depths_[i].format() == format && depths_[i].width() == width && depths_[i].height() == height) {
-      DepthBuffer depth = std::move(depths_[i]);
-      depths_.erase(depths_.begin() + std::ptrdiff_t(i));
-      return depth;
-    }
-  return DepthBuffer(format, width, height);
+  return takeMatching(depths_, format, width, height);
 }
 
 void AttachmentPool::give(Image&& image) {
