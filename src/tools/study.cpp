@@ -105,12 +105,20 @@ std::string noteOf(const FrameResult& frame) {
 }
 
 // Renders one variant: `warmups` untimed frames, then `runs` timed frames, whose bits must all
-// agree.
-FrameResult timedRender(Method& method, const FrameContext& context, int warmups, int runs, std::vector<double>& runMs) {
+// agree. Each frame reuses the previous one's attachments (a pool of this variant's: at most one
+// frame's worth is kept), as an application would.
+FrameResult timedRender(Method& method, const FrameContext& unpooled, int warmups, int runs, std::vector<double>& runMs) {
+  AttachmentPool pool;
+  FrameContext context = unpooled;
+  context.pool = &pool;
   FrameResult frame = method.render(context);
-  for (int i = 1; i < warmups; ++i) frame = method.render(context);
+  for (int i = 1; i < warmups; ++i) {
+    pool.recycle(std::move(frame));
+    frame = method.render(context);
+  }
   const std::string hash = frameHash(frame);
   for (int i = 0; i < runs; ++i) {
+    pool.recycle(std::move(frame));
     const auto t0 = std::chrono::steady_clock::now();
     frame = method.render(context);
     runMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
