@@ -86,30 +86,41 @@ struct CompiledBlend {
   bool anyMinMax;
 };
 
-inline CompiledBlend compileBlend(const BlendState& st) {
+// constexpr, so that a kernel compiled for a known state (target_blender.cpp) folds it away. GCC
+// does not allow assigning single lanes of a vector in a constant expression, so the lanes are
+// gathered in arrays first.
+constexpr CompiledBlend compileBlend(const BlendState& st) {
   CompiledBlend c{};
+  int srcLanes[8][4] = {}, dstLanes[8][4] = {};
+  int srcOneMinus[4] = {}, dstOneMinus[4] = {}, negateSrc[4] = {}, negateDst[4] = {}, minLanes[4] = {}, maxLanes[4] = {};
   for (int l = 0; l < 4; ++l) {
     const BlendFactor sf = l < 3 ? st.srcRgb : st.srcAlpha, df = l < 3 ? st.dstRgb : st.dstAlpha;
     const BlendEquation eq = l < 3 ? st.equationRgb : st.equationAlpha;
     c.srcRow[l] = factorRow(sf).row;
     c.dstRow[l] = factorRow(df).row;
-    c.srcOneMinus[l] = factorRow(sf).oneMinus ? -1 : 0;
-    c.dstOneMinus[l] = factorRow(df).oneMinus ? -1 : 0;
-    c.negateSrc[l] = eq == BlendEquation::ReverseSubtract ? int32_t(0x80000000u) : 0;
-    c.negateDst[l] = eq == BlendEquation::Subtract ? int32_t(0x80000000u) : 0;
-    c.minLanes[l] = eq == BlendEquation::Min ? -1 : 0;
-    c.maxLanes[l] = eq == BlendEquation::Max ? -1 : 0;
+    srcOneMinus[l] = factorRow(sf).oneMinus ? -1 : 0;
+    dstOneMinus[l] = factorRow(df).oneMinus ? -1 : 0;
+    negateSrc[l] = eq == BlendEquation::ReverseSubtract ? int32_t(0x80000000u) : 0;
+    negateDst[l] = eq == BlendEquation::Subtract ? int32_t(0x80000000u) : 0;
+    minLanes[l] = eq == BlendEquation::Min ? -1 : 0;
+    maxLanes[l] = eq == BlendEquation::Max ? -1 : 0;
     c.anyMinMax = c.anyMinMax || eq == BlendEquation::Min || eq == BlendEquation::Max;
-    c.srcLanes[c.srcRow[l]][l] = -1;
-    c.dstLanes[c.dstRow[l]][l] = -1;
+    srcLanes[c.srcRow[l]][l] = -1;
+    dstLanes[c.dstRow[l]][l] = -1;
     c.rowsUsed |= (1u << c.srcRow[l]) | (1u << c.dstRow[l]);
   }
+  auto vec = [](const int* a) { return v4i{a[0], a[1], a[2], a[3]}; };
+  for (int k = 0; k < 8; ++k) c.srcLanes[k] = vec(srcLanes[k]), c.dstLanes[k] = vec(dstLanes[k]);
+  c.srcOneMinus = vec(srcOneMinus), c.dstOneMinus = vec(dstOneMinus);
+  c.negateSrc = vec(negateSrc), c.negateDst = vec(negateDst);
+  c.minLanes = vec(minLanes), c.maxLanes = vec(maxLanes);
   c.rowsUsed &= ~1u;  // row 0 is zero: contributes nothing to the OR below
   return c;
 }
 
 // `c` must already be clamped for fixed-point targets (done once per draw by the callers).
-inline v4f blendValues(const CompiledBlend& cb, v4f s, v4f d, v4f c, bool fixedPoint, bool targetHasAlpha) {
+[[gnu::always_inline]] inline v4f blendValues(const CompiledBlend& cb, v4f s, v4f d, v4f c, bool fixedPoint,
+                                               bool targetHasAlpha) {
   if (fixedPoint) {
     s = clampUnit4(s);
     d = clampUnit4(d);

@@ -2,8 +2,10 @@
 
 #include <array>
 #include <cstring>
+#include <utility>
 
 #include "blend/blend_math.h"
+#include "blend/method_blend_states.h"
 #include "blend/blend_nvidia.h"
 #include "format/fp16_inline.h"
 
@@ -18,6 +20,61 @@ const std::array<float, 256> kUnorm8Decode = [] {
 }();
 
 }  // namespace
+
+namespace {
+
+// Index of `state` in kMethodBlendStates (blending enabled, every channel written), or -1.
+int methodStateIndex(const BlendState& state) {
+  for (size_t i = 0; i < std::size(states::kMethodBlendStates); ++i)
+    if (states::kMethodBlendStates[i] == state) return int(i);
+  return -1;
+}
+
+}  // namespace
+
+template <int State>
+const CompiledBlend& TargetBlender::compiledBlend(const TargetBlender& b) {
+  if constexpr (State == kRuntimeState) {
+    return b.compiled_;
+  } else {
+    static constexpr CompiledBlend compiled = compileBlend(states::kMethodBlendStates[State]);
+    return compiled;
+  }
+}
+
+template <int State>
+bool TargetBlender::enabled(const TargetBlender& b) {
+  if constexpr (State == kRuntimeState) return b.state_.enabled;
+  else return states::kMethodBlendStates[State].enabled;
+}
+
+void TargetBlender::useFastKernel(ChannelEncoding encoding, int channels, int stateIndex) {
+  // [encoding][channels 1, 2, 4][state + 1]: every combination compiled once.
+  constexpr size_t kStates = std::size(states::kMethodBlendStates) + 1;
+  const int c = channels == 4 ? 2 : channels - 1;
+  const size_t s = size_t(stateIndex + 1);
+  auto pick = [&]<size_t... I>(std::index_sequence<I...>) {
+    static constexpr Kernel unorm[3][kStates] = {{unorm8Kernel<1, int(I) - 1>...}, {unorm8Kernel<2, int(I) - 1>...},
+                                                 {unorm8Kernel<4, int(I) - 1>...}};
+    static constexpr Kernel half[3][kStates] = {{halfKernel<1, int(I) - 1>...}, {halfKernel<2, int(I) - 1>...},
+                                                {halfKernel<4, int(I) - 1>...}};
+    static constexpr Kernel fp32[3][kStates] = {{float32Kernel<1, int(I) - 1>...}, {float32Kernel<2, int(I) - 1>...},
+                                                {float32Kernel<4, int(I) - 1>...}};
+    static constexpr BatchKernel unormBatch[3][kStates] = {{batchOf<unorm8Kernel<1, int(I) - 1>>...},
+                                                           {batchOf<unorm8Kernel<2, int(I) - 1>>...},
+                                                           {batchOf<unorm8Kernel<4, int(I) - 1>>...}};
+    static constexpr BatchKernel halfBatch[3][kStates] = {{batchOf<halfKernel<1, int(I) - 1>>...},
+                                                          {batchOf<halfKernel<2, int(I) - 1>>...},
+                                                          {batchOf<halfKernel<4, int(I) - 1>>...}};
+    static constexpr BatchKernel fp32Batch[3][kStates] = {{batchOf<float32Kernel<1, int(I) - 1>>...},
+                                                          {batchOf<float32Kernel<2, int(I) - 1>>...},
+                                                          {batchOf<float32Kernel<4, int(I) - 1>>...}};
+    if (encoding == ChannelEncoding::Unorm) kernel_ = unorm[c][s], batchKernel_ = unormBatch[c][s];
+    else if (encoding == ChannelEncoding::Half) kernel_ = half[c][s], batchKernel_ = halfBatch[c][s];
+    else kernel_ = fp32[c][s], batchKernel_ = fp32Batch[c][s];
+  };
+  pick(std::make_index_sequence<kStates>());
+}
 
 TargetBlender::TargetBlender(const Format& format, const BlendState& state, const glm::vec4& constant,
                              const Profile& profile, bool allowFastPath, bool smallFloatTargetBound)
@@ -53,13 +110,13 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
     const int c = format.channels;
     switch (format.encoding()) {
       case ChannelEncoding::Unorm:
-        format.isPacked() || format.unormBits(0) != 8 ? use<genericKernel>() : c == 4 ? use<unorm8Kernel<4>>() : c == 2 ? use<unorm8Kernel<2>>() : use<unorm8Kernel<1>>();
+        if (format.isPacked() || format.unormBits(0) != 8 || (c != 1 && c != 2 && c != 4)) use<genericKernel>();
+        else useFastKernel(ChannelEncoding::Unorm, c, methodStateIndex(state));
         break;
       case ChannelEncoding::Half:
-        c == 4 ? use<halfKernel<4>>() : c == 2 ? use<halfKernel<2>>() : use<halfKernel<1>>();
-        break;
       case ChannelEncoding::Float32:
-        c == 4 ? use<float32Kernel<4>>() : c == 2 ? use<float32Kernel<2>>() : use<float32Kernel<1>>();
+        if (c != 1 && c != 2 && c != 4) use<genericKernel>();
+        else useFastKernel(format.encoding(), c, methodStateIndex(state));
         break;
       default: use<genericKernel>();
     }
@@ -124,23 +181,23 @@ void TargetBlender::integerUnormKernel(const TargetBlender& b, const glm::vec4& 
   b.unormBlend_(b.unormPlan_, source, texel);
 }
 
-template <int Channels>
+template <int Channels, int State>
 void TargetBlender::unorm8Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
   glm::vec4 result = source;
-  if (b.state_.enabled) {
+  if (enabled<State>(b)) {
     glm::vec4 d(0.0f, 0.0f, 0.0f, 1.0f);
     for (int c = 0; c < Channels; ++c) d[c] = kUnorm8Decode[texel[c]];
-    result = store4(blendValues(b.compiled_, load4(source), load4(d), load4(b.constant_), true, Channels == 4));
+    result = store4(blendValues(compiledBlend<State>(b), load4(source), load4(d), load4(b.constant_), true, Channels == 4));
   }
   const v4i codes = encodeUnorm4(load4(result), 8, b.profile_.unorm);
   for (int c = 0; c < Channels; ++c) texel[c] = uint8_t(codes[c]);
 }
 
-template <int Channels>
+template <int Channels, int State>
 void TargetBlender::halfKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
   uint16_t h[4] = {0, 0, 0, 0x3c00};
   glm::vec4 result = source;
-  if (b.state_.enabled) {
+  if (enabled<State>(b)) {
     std::memcpy(h, texel, 2 * Channels);
     glm::vec4 d;
 #if defined(OITREF_HAVE_F16C)
@@ -148,7 +205,7 @@ void TargetBlender::halfKernel(const TargetBlender& b, const glm::vec4& source, 
 #else
     for (int c = 0; c < 4; ++c) d[c] = decodeHalfInline(h[c]);
 #endif
-    result = store4(blendValues(b.compiled_, load4(source), load4(d), load4(b.constant_), false, Channels == 4));
+    result = store4(blendValues(compiledBlend<State>(b), load4(source), load4(d), load4(b.constant_), false, Channels == 4));
   }
 #if defined(OITREF_HAVE_F16C)
   const __m128 v = _mm_loadu_ps(&result[0]);
@@ -162,13 +219,13 @@ void TargetBlender::halfKernel(const TargetBlender& b, const glm::vec4& source, 
   std::memcpy(texel, h, 2 * Channels);
 }
 
-template <int Channels>
+template <int Channels, int State>
 void TargetBlender::float32Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
   glm::vec4 result = source;
-  if (b.state_.enabled) {
+  if (enabled<State>(b)) {
     glm::vec4 d(0.0f, 0.0f, 0.0f, 1.0f);
     std::memcpy(&d[0], texel, 4 * Channels);
-    result = store4(blendValues(b.compiled_, load4(source), load4(d), load4(b.constant_), false, Channels == 4));
+    result = store4(blendValues(compiledBlend<State>(b), load4(source), load4(d), load4(b.constant_), false, Channels == 4));
   }
   std::memcpy(texel, &result[0], 4 * Channels);
 }

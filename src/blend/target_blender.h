@@ -48,9 +48,16 @@ class TargetBlender {
     kernel_ = K;
     batchKernel_ = batchOf<K>;
   }
-  template <int Channels> static void unorm8Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
-  template <int Channels> static void halfKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
-  template <int Channels> static void float32Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  // State: kRuntimeState blends with compiled_; an index into kMethodBlendStates, with that state
+  // known when the kernel is compiled (its selects fold away; the same bits).
+  static constexpr int kRuntimeState = -1;
+  template <int Channels, int State> static void unorm8Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <int Channels, int State> static void halfKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <int Channels, int State> static void float32Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <int State> static const CompiledBlend& compiledBlend(const TargetBlender& b);
+  template <int State> static bool enabled(const TargetBlender& b);
+  // The fast kernel for the format layout, compiled for the state when it is a method blend state.
+  void useFastKernel(ChannelEncoding encoding, int channels, int stateIndex);
   static void genericKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void integerUnormKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void llvmpipeFloatKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
