@@ -5,8 +5,8 @@
 #include <utility>
 
 #include "blend/blend_math.h"
-#include "blend/method_blend_states.h"
 #include "blend/blend_nvidia.h"
+#include "blend/method_blend_states.h"
 #include "format/fp16_inline.h"
 
 namespace oitref::detail {
@@ -18,10 +18,6 @@ const std::array<float, 256> kUnorm8Decode = [] {
   for (int k = 0; k < 256; ++k) t[size_t(k)] = float(k) / 255.0f;
   return t;
 }();
-
-}  // namespace
-
-namespace {
 
 // Index of `state` in kMethodBlendStates (blending enabled, every channel written), or -1.
 int methodStateIndex(const BlendState& state) {

@@ -63,20 +63,6 @@ void FragmentStage::interpolateAttributes(const double* b) {
   for (int k = 0; k < n; ++k) attributes_[size_t(k)] = float(b[0] * va[k] + b[1] * va[n + k] + b[2] * va[2 * n + k]);
 }
 
-// The pixel centre's perspective-correct barycentrics b, view depth w and window z: the
-// expressions of the header comment, one rounding each in double. `span` evaluates them for a
-// whole batch in one loop (the compiler may use vector lanes: the same IEEE operations per lane).
-#define OITREF_INTERPOLATE(x, yn, w, b0, b1, b2, z)                                                       \
-  do {                                                                                                    \
-    const double xn_ = double(x) * ndcScaleX_ + ndcOffsetX_;                                              \
-    const double k0_ = inverse_[0][0] * xn_ + inverse_[0][1] * (yn) + inverse_[0][2];                     \
-    const double k1_ = inverse_[1][0] * xn_ + inverse_[1][1] * (yn) + inverse_[1][2];                     \
-    const double k2_ = inverse_[2][0] * xn_ + inverse_[2][1] * (yn) + inverse_[2][2];                     \
-    (w) = 1.0 / (k0_ + k1_ + k2_); /* P.w, the view depth */                                              \
-    (b0) = k0_ * (w), (b1) = k1_ * (w), (b2) = k2_ * (w);                                                 \
-    (z) = 0.5 * (((b0) * clipZ_[0] + (b1) * clipZ_[1] + (b2) * clipZ_[2]) / (w)) + 0.5;                   \
-  } while (0)
-
 FragmentInput FragmentStage::fragmentInput(int x, int y, double z, double w) const {
   FragmentInput in;
   in.x = x;
@@ -97,7 +83,7 @@ void FragmentStage::fragment(int x, int y) {
   if (degenerate_) return;
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
   double w, b[3], z;
-  OITREF_INTERPOLATE(x, yn, w, b[0], b[1], b[2], z);
+  interpolate(x, yn, w, b[0], b[1], b[2], z);
   FragmentInput in = fragmentInput(x, y, z, w);
   ++counters_.rasterized;
   process(in, z, b);
@@ -109,7 +95,7 @@ void FragmentStage::span(int y, int x0, int x1) {
   for (int start = x0; start < x1; start += kBatch) {
     const int n = std::min(kBatch, x1 - start);
     double w[kBatch], b0[kBatch], b1[kBatch], b2[kBatch], z[kBatch];
-    for (int i = 0; i < n; ++i) OITREF_INTERPOLATE(start + i, yn, w[i], b0[i], b1[i], b2[i], z[i]);
+    for (int i = 0; i < n; ++i) interpolate(start + i, yn, w[i], b0[i], b1[i], b2[i], z[i]);
     counters_.rasterized += uint64_t(n);
     // Early depth tests for the whole batch first: where most fragments are hidden, they end here.
     bool passed[kBatch];

@@ -54,6 +54,19 @@ class FragmentStage {
   bool shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out, bool earlyTestDone = false);
   void interpolateAttributes(const double* b);
   FragmentInput fragmentInput(int x, int y, double z, double w) const;
+  // Pixel x of the row at NDC y `yn`: the perspective-correct barycentrics b, the view depth w and
+  // the window z, the expressions of the header comment, one rounding each in double. `span`
+  // evaluates it over a batch in one loop (the compiler may use vector lanes: the same IEEE
+  // operations per lane).
+  void interpolate(int x, double yn, double& w, double& b0, double& b1, double& b2, double& z) const {
+    const double xn = double(x) * ndcScaleX_ + ndcOffsetX_;
+    const double k0 = inverse_[0][0] * xn + inverse_[0][1] * yn + inverse_[0][2];
+    const double k1 = inverse_[1][0] * xn + inverse_[1][1] * yn + inverse_[1][2];
+    const double k2 = inverse_[2][0] * xn + inverse_[2][1] * yn + inverse_[2][2];
+    w = 1.0 / (k0 + k1 + k2);  // P.w, the view depth
+    b0 = k0 * w, b1 = k1 * w, b2 = k2 * w;
+    z = 0.5 * ((b0 * clipZ_[0] + b1 * clipZ_[1] + b2 * clipZ_[2]) / w) + 0.5;
+  }
   // Blends the batch's surviving fragments (outputs_[i] at x = batchX_[i] on row y), target by target.
   void blendBatch(int y, int count);
 
