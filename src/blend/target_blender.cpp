@@ -8,16 +8,10 @@
 #include "blend/blend_nvidia.h"
 #include "blend/method_blend_states.h"
 #include "format/fp16_inline.h"
+#include "format/unorm8_decode.h"
 
 namespace oitref::detail {
 namespace {
-
-// k/255 correctly rounded, for every k: the exact UNORM8 decode (GL 4.6 §2.3.5.1).
-const std::array<float, 256> kUnorm8Decode = [] {
-  std::array<float, 256> t{};
-  for (int k = 0; k < 256; ++k) t[size_t(k)] = float(k) / 255.0f;
-  return t;
-}();
 
 // Index of `state` in kMethodBlendStates (blending enabled, every channel written), or -1.
 int methodStateIndex(const BlendState& state) {

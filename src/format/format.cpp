@@ -8,6 +8,7 @@
 
 #include "format/fp16_inline.h"
 #include "format/packed_layout.h"
+#include "format/unorm8_decode.h"
 #include "format/unorm_rescale.h"
 #include "oitref/unorm.h"
 
@@ -177,7 +178,8 @@ namespace {
 // One channel of the unpacked encodings, by its rule (unorm.h, fp16_inline.h; fp32 as it is).
 template <ChannelEncoding E, int Bytes>
 float decodeChannel(const uint8_t* texel, int c) {
-  if constexpr (E == ChannelEncoding::Unorm) return decodeUnorm(loadChannel(texel, c, Bytes), 8 * Bytes);
+  if constexpr (E == ChannelEncoding::Unorm && Bytes == 1) return detail::kUnorm8Decode[texel[c]];
+  else if constexpr (E == ChannelEncoding::Unorm) return decodeUnorm(loadChannel(texel, c, Bytes), 8 * Bytes);
   else if constexpr (E == ChannelEncoding::Half) return detail::decodeHalfInline(uint16_t(loadChannel(texel, c, 2)));
   else {
     float v;
