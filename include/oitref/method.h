@@ -119,15 +119,27 @@ class AttachmentPool {
  public:
   Image takeImage(const Format& format, int width, int height);
   DepthBuffer takeDepth(DepthFormat format, int width, int height);
+  // Takes an attachment back when one of its format and size is out on loan (else lets it go):
+  // what the pool holds never outgrows what frames take from it.
   void give(Image&& image);
   void give(DepthBuffer&& depth);
   // Gives back every image of a finished frame (final8, finalFloat, dump) and empties it.
   void recycle(FrameResult&& frame);
-  size_t size() const { return images_.size() + depths_.size(); }
+  size_t size() const { return images_.size() + depths_.size(); }  // attachments kept
 
  private:
+  template <typename F>
+  struct Kind {
+    F format;
+    int width, height;
+    bool operator==(const Kind&) const = default;
+  };
+  using ImageKind = Kind<Format>;
+  using DepthKind = Kind<DepthFormat>;
   std::vector<Image> images_;
   std::vector<DepthBuffer> depths_;
+  std::vector<ImageKind> lentImages_;  // one entry per attachment out on loan
+  std::vector<DepthKind> lentDepths_;
 };
 
 class Method {

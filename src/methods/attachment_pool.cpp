@@ -1,38 +1,51 @@
 // AttachmentPool (oitref/method.h): attachments kept between frames.
 #include "oitref/method.h"
 
-namespace oitref {
+#include <algorithm>
 
+namespace oitref {
 namespace {
 
-// The first kept item with the format and size asked for, moved out of `kept`; else a new one.
-template <typename T, typename Format>
-T takeMatching(std::vector<T>& kept, const Format& format, int width, int height) {
+// The first kept item of the kind asked for, moved out of `kept`, else a new one; either way the
+// kind is recorded as lent.
+template <typename T, typename Kind>
+T takeKind(std::vector<T>& kept, std::vector<Kind>& lent, const Kind& kind) {
+  lent.push_back(kind);
   for (size_t i = 0; i < kept.size(); ++i)
-    if (kept[i].format() == format && kept[i].width() == width && kept[i].height() == height) {
+    if (Kind{kept[i].format(), kept[i].width(), kept[i].height()} == kind) {
       T item = std::move(kept[i]);
       kept.erase(kept.begin() + std::ptrdiff_t(i));
       return item;
     }
-  return T(format, width, height);
+  return T(kind.format, kind.width, kind.height);
+}
+
+// Keeps `item` when an item of its kind is out on loan (it stands in for that one); drops it
+// otherwise, so that what the pool holds never grows past what frames take from it.
+template <typename T, typename Kind>
+void giveKind(std::vector<T>& kept, std::vector<Kind>& lent, T&& item) {
+  const auto loan = std::find(lent.begin(), lent.end(), Kind{item.format(), item.width(), item.height()});
+  if (loan == lent.end()) return;
+  lent.erase(loan);
+  kept.push_back(std::move(item));
 }
 
 }  // namespace
 
 Image AttachmentPool::takeImage(const Format& format, int width, int height) {
-  return takeMatching(images_, format, width, height);
+  return takeKind(images_, lentImages_, ImageKind{format, width, height});
 }
 
 DepthBuffer AttachmentPool::takeDepth(DepthFormat format, int width, int height) {
-  return takeMatching(depths_, format, width, height);
+  return takeKind(depths_, lentDepths_, DepthKind{format, width, height});
 }
 
 void AttachmentPool::give(Image&& image) {
-  if (!image.bytes().empty()) images_.push_back(std::move(image));  // not one moved from
+  if (!image.bytes().empty()) giveKind(images_, lentImages_, std::move(image));  // not one moved from
 }
 
 void AttachmentPool::give(DepthBuffer&& depth) {
-  if (depth.allocated()) depths_.push_back(std::move(depth));  // not one moved from
+  if (depth.allocated()) giveKind(depths_, lentDepths_, std::move(depth));  // not one moved from
 }
 
 void AttachmentPool::recycle(FrameResult&& frame) {

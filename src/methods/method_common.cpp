@@ -59,7 +59,10 @@ Framebuffer FrameTargets::present(bool withDepth) {
 }
 
 void FrameTargets::finish(FrameResult& result, const std::string& finalName) {
-  result.final8 = color(finalName);
+  const Image& final8 = color(finalName);
+  // A copy: into a pooled image of the same size, whose storage the copy reuses.
+  if (pool_) result.final8 = pool_->takeImage(final8.format(), final8.width(), final8.height());
+  result.final8 = final8;
   result.finalFloat = std::move(analysis_);
   for (const std::string& name : order_) {
     const auto it = colors_.find(name);
