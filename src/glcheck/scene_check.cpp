@@ -93,8 +93,9 @@ void printTimings(std::ostream& out, const std::vector<SceneCheckRow>& rows, con
     if (!r.timing) continue;
     const auto& passes = r.timing->oitrefPasses;
     const bool composites = std::any_of(passes.begin(), passes.end(), [](const PassTiming& p) { return p.kind == "composite"; });
-    std::snprintf(line, sizeof line, " (composite floor %.2f ms)", r.timing->compositeTrafficBytes / (bandwidth * 1e6));
-    if (!composites) line[0] = '\0';
+    line[0] = '\0';
+    if (composites)
+      std::snprintf(line, sizeof line, " (composite floor %.2f ms)", r.timing->compositeTrafficBytes / (bandwidth * 1e6));
     out << "  " << r.method << line << "\n    oitref: " << list(r.timing->oitrefPasses)
         << "\n    GL:     " << list(r.timing->glPasses) << "\n";
   }

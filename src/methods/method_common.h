@@ -59,7 +59,6 @@ inline AttachmentDecl depthAttachment(std::string name, std::string purpose) {
 // "opaque" RGBA8 and "depth" d24: the start of every method's list.
 std::vector<AttachmentDecl> opaqueAttachments();
 
-
 class PassRunner {
  public:
   PassRunner(const FrameContext& context, FrameResult& result) : context_(context), result_(result) {}

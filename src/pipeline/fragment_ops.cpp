@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-
 namespace oitref::detail {
 
 FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program,
@@ -173,7 +172,8 @@ bool FragmentStage::shade(FragmentInput& in, double z, const double* perspective
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
   const bool testing = depth != nullptr && ds.testEnabled;  // GL §17.3.4: no test, no depth write
-  uint32_t fragmentDepth = testing ? encodeDepth(z, depth->format()) : 0;
+  // Not converted again when the caller's early test already did.
+  uint32_t fragmentDepth = testing && !(earlyTests_ && earlyTestDone) ? encodeDepth(z, depth->format()) : 0;
 
   if (testing && earlyTests_ && !earlyTestDone) {
     if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
