@@ -22,12 +22,14 @@ namespace {
 #define LP_INLINE [[gnu::always_inline]] inline
 
 // A vector of four lanes that may be known, at JIT time, to be all 0 or all 1.
+// The lanes live in a vector register: built and read in memory, a 16-byte load after narrower
+// stores would wait for them (store forwarding).
 struct Vec {
   enum Kind { Value, Zero, One } kind = Value;
-  glm::vec4 v{0.0f};
-  static Vec zero() { return {Zero, glm::vec4(0.0f)}; }
-  static Vec one() { return {One, glm::vec4(1.0f)}; }
-  static Vec of(const glm::vec4& x) { return {Value, x}; }
+  v4f v{};
+  static Vec zero() { return {Zero, splat(0.0f)}; }
+  static Vec one() { return {One, splat(1.0f)}; }
+  static Vec of(v4f x) { return {Value, x}; }
 };
 
 // x·y + z rounded once, per lane (IEEE fusedMultiplyAdd): the CPU's FMA instruction where it has
@@ -74,23 +76,21 @@ class Arith {
   LP_INLINE Vec comp(const Vec& a) const {  // 1 − a
     if (a.kind == Vec::One) return Vec::zero();
     if (a.kind == Vec::Zero) return Vec::one();
-    return sub(Vec::of(glm::vec4(1.0f)), a);
+    return sub(Vec::of(splat(1.0f)), a);
   }
-  // x86 minps / maxps: a < b ? a : b, on the DAZ-read operands.
-  LP_INLINE glm::vec4 minps(const glm::vec4& a, const glm::vec4& b) const {
-    glm::vec4 r;
-    for (int i = 0; i < 4; ++i) r[i] = daz(a[i]) < daz(b[i]) ? daz(a[i]) : daz(b[i]);
-    return r;
+  // x86 minps / maxps: a < b ? a : b (else b, NaN included), on the DAZ-read operands.
+  LP_INLINE v4f minps(v4f a, v4f b) const {
+    const v4f x = daz4(a), y = daz4(b);
+    return select(x < y, x, y);
   }
-  LP_INLINE glm::vec4 maxps(const glm::vec4& a, const glm::vec4& b) const {
-    glm::vec4 r;
-    for (int i = 0; i < 4; ++i) r[i] = daz(a[i]) > daz(b[i]) ? daz(a[i]) : daz(b[i]);
-    return r;
+  LP_INLINE v4f maxps(v4f a, v4f b) const {
+    const v4f x = daz4(a), y = daz4(b);
+    return select(x > y, x, y);
   }
   // lp_build_mad: llvm.fmuladd, one rounding on CPUs with FMA.
   LP_INLINE Vec mad(const Vec& a, const Vec& b, const Vec& c) const {
     if (!fma_) return add(mul(a, b), c);
-    const v4f x = daz4(load4(a.v)), y = daz4(load4(b.v)), z = daz4(load4(c.v));
+    const v4f x = daz4(a.v), y = daz4(b.v), z = daz4(c.v);
     v4f r = fusedMultiplyAdd4(x, y, z);
     // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
     const v4i magnitude = (v4i)r & 0x7fffffff;
@@ -102,13 +102,11 @@ class Arith {
         if (flush_ && m != 0.0f && m <= 0x1p-126f)  // may be tiny: the scalar rule
           r[i] = ftz([&](float k) { return std::fma(x[i] * k, y[i], z[i] * k); });
       }
-    return Vec::of(store4(r));
+    return Vec::of(r);
   }
   LP_INLINE Vec lerp(const Vec& x, const Vec& v0, const Vec& v1) const { return mad(x, sub(v1, v0), v0); }
 
  private:
-  LP_INLINE float daz(float x) const { return flush_ && std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
-
   // `op(k)` computes the operation with its operands scaled by k; k = 2^64 lifts a tiny result
   // into the normal range, where fp32 rounding is the unbounded-exponent rounding.
   template <typename Op>
@@ -124,7 +122,7 @@ class Arith {
   // scalar rule above, so the bits are those of ftz per lane.
   template <typename Op>
   LP_INLINE Vec lanes(const Vec& a, const Vec& b, Op op) const {
-    const v4f x = daz4(load4(a.v)), y = daz4(load4(b.v));
+    const v4f x = daz4(a.v), y = daz4(b.v);
     v4f r = op(x, y, splat(1.0f));
     // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
     const v4i magnitude = (v4i)r & 0x7fffffff;
@@ -136,7 +134,7 @@ class Arith {
         if (nan[i]) r[i] = x86Nan(x[i], y[i], r[i]);
         if (tiny[i]) r[i] = ftz([&](float k) { return op(x[i], y[i], k); });
       }
-    return Vec::of(store4(r));
+    return Vec::of(r);
   }
   // x86's NaN propagation, stated so that it does not depend on how the compiler orders the
   // operands of a commutative operation: a NaN result is the first operand's NaN, else the
@@ -170,23 +168,23 @@ struct Inputs {
 // lp_build_blend_factor_unswizzled, then the AAAA broadcast of alpha factors, for one lane
 // group: `alphaLane` selects the alpha channel's rules (SRC_ALPHA_SATURATE is 1 there).
 LP_INLINE Vec unswizzled(const Arith& A, unsigned f, bool alphaLane, const Inputs& in) {
-  const glm::vec4 sa(in.srcAlpha), ca(in.constAlpha);
+  const v4f sa = splat(in.srcAlpha), ca = splat(in.constAlpha);
   switch (f) {
     case kPipeZero: return Vec::zero();
     case kPipeOne: return Vec::one();
     case kPipeSrcColor: return in.src;
     case kPipeSrcAlpha: return Vec::of(sa);
     case kPipeDstColor: return in.dst;
-    case kPipeDstAlpha: return Vec::of(glm::vec4(in.dst.v[3]));
+    case kPipeDstAlpha: return Vec::of(splat(in.dst.v[3]));
     case kPipeSrcAlphaSaturate:
       if (alphaLane) return Vec::one();
-      return Vec::of(A.minps(sa, in.hasDstAlpha ? glm::vec4(1.0f - in.dst.v[3]) : glm::vec4(0.0f)));
+      return Vec::of(A.minps(sa, splat(in.hasDstAlpha ? 1.0f - in.dst.v[3] : 0.0f)));
     case kPipeConstColor: return in.constant;
     case kPipeConstAlpha: return Vec::of(ca);
     case kPipeInvSrcColor: return A.comp(in.src);
     case kPipeInvSrcAlpha: return A.comp(Vec::of(sa));
     case kPipeInvDstColor: return A.comp(in.dst);
-    case kPipeInvDstAlpha: return A.comp(Vec::of(glm::vec4(in.dst.v[3])));
+    case kPipeInvDstAlpha: return A.comp(Vec::of(splat(in.dst.v[3])));
     case kPipeInvConstColor: return A.comp(in.constant);
     case kPipeInvConstAlpha: return A.comp(Vec::of(ca));
     default: return Vec::zero();
@@ -237,8 +235,7 @@ LP_INLINE Vec lpBlend(const Arith& A, BlendEquation eq, unsigned fs, unsigned fd
   return blendFunc(A, eq, A.mul(s, sf), A.mul(d, df));
 }
 
-LP_INLINE glm::vec4 run(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4& source,
-                        const glm::vec4& destination) {
+LP_INLINE v4f run(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
   const LlvmpipeFloatShape& p = plan.shape;
   const Arith A(plan.flushDenormals, plan.fma);
   Inputs in{Vec::of(source), Vec::of(destination), Vec::of(constant), source[3], constant[3], p.hasAlpha};
@@ -249,15 +246,13 @@ LP_INLINE glm::vec4 run(const LlvmpipeFloatPlan& plan, const glm::vec4& constant
   return result.v;
 }
 
-glm::vec4 general(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4& source,
-                  const glm::vec4& destination) {
+v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
   return run(plan, constant, source, destination);
 }
 
 // `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
 template <LlvmpipeFloatShape Shape>
-glm::vec4 compiled(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4& source,
-                   const glm::vec4& destination) {
+v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
   LlvmpipeFloatPlan p;
   p.shape = Shape;
   p.flushDenormals = plan.flushDenormals;
@@ -296,7 +291,7 @@ glm::vec4 blendLlvmpipeFloat(const Format& format, const BlendState& state, cons
   plan.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
   plan.flushDenormals = flushDenormals;
   plan.fma = fma;
-  return run(plan, constant, source, destination);
+  return store4(run(plan, load4(constant), load4(source), load4(destination)));
 }
 
 }  // namespace oitref::detail

@@ -23,6 +23,7 @@
 #include "oitref/blend_state.h"
 #include "oitref/format.h"
 #include "oitref/profile.h"
+#include "blend/blend_math.h"
 #include "blend/llvmpipe_factors.h"
 
 namespace oitref::detail {
@@ -50,8 +51,8 @@ struct LlvmpipeFloatPlan {
 
 // Blends fp32 `source` and `destination` (the texel decoded) as the plan says; the result is
 // converted into the format by the caller.
-using LlvmpipeFloatBlendFn = glm::vec4 (*)(const LlvmpipeFloatPlan&, const glm::vec4& constant, const glm::vec4& source,
-                                           const glm::vec4& destination);
+// The four lanes travel in vector registers (blend_math.h's v4f).
+using LlvmpipeFloatBlendFn = v4f (*)(const LlvmpipeFloatPlan&, v4f constant, v4f source, v4f destination);
 
 // The general function, and one compiled for the plan's shape when it is that of a method blend
 // state (method_blend_states.h), with the same bits; `specialised` false always gives the general one.

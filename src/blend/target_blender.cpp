@@ -20,6 +20,27 @@ int methodStateIndex(const BlendState& state) {
   return -1;
 }
 
+
+// A float texel's channels as four fp32 lanes (absent ones 0, alpha 1), built in registers: put
+// together in memory from narrower stores, a 16-byte load of them would wait for the stores to
+// retire (no store forwarding), which costs more than the blend.
+template <int Channels>
+inline v4f loadFloatTexel(const uint8_t* texel) {
+  float c[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+  for (int i = 0; i < Channels; ++i) std::memcpy(&c[i], texel + 4 * i, 4);
+  return v4f{c[0], c[1], c[2], c[3]};
+}
+template <int Channels>
+inline v4f loadHalfTexel(const uint8_t* texel) {
+  uint16_t h[4] = {0, 0, 0, 0x3c00};
+  for (int i = 0; i < Channels; ++i) std::memcpy(&h[i], texel + 2 * i, 2);
+#if defined(OITREF_HAVE_F16C)
+  const uint64_t bits = uint64_t(h[0]) | uint64_t(h[1]) << 16 | uint64_t(h[2]) << 32 | uint64_t(h[3]) << 48;
+  return (v4f)_mm_cvtph_ps(_mm_cvtsi64_si128(int64_t(bits)));
+#else
+  return v4f{decodeHalfInline(h[0]), decodeHalfInline(h[1]), decodeHalfInline(h[2]), decodeHalfInline(h[3])};
+#endif
+}
 }  // namespace
 
 template <int State>
@@ -130,7 +151,8 @@ void TargetBlender::genericKernel(const TargetBlender& b, const glm::vec4& sourc
 
 void TargetBlender::llvmpipeFloatKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
   const Format& f = b.format_;
-  const glm::vec4 result = b.llvmpipeBlend_(b.llvmpipePlan_, b.rawConstant_, source, decodeTexel(f, texel));
+  const glm::vec4 result =
+      store4(b.llvmpipeBlend_(b.llvmpipePlan_, load4(b.rawConstant_), load4(source), load4(decodeTexel(f, texel))));
   uint8_t encoded[16];
   encodeTexel(f, result, b.profile_, encoded);
   mergeTexelChannels(f, encoded, texel, b.mask_);
@@ -138,28 +160,18 @@ void TargetBlender::llvmpipeFloatKernel(const TargetBlender& b, const glm::vec4&
 
 // The same for fp16 and fp32 targets with every channel written, without the per-channel format
 // dispatch: decoding (fp16 exactly, via F16C where built with it) and encoding as encodeTexel does.
-// The destination is built in registers and stored whole: assembled channel by channel in memory,
-// the blend function's 16-byte load of it would wait for the narrower stores (store forwarding).
 template <int Channels, bool Half>
 void TargetBlender::llvmpipeFloatTexelKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  if constexpr (Half) {
-    uint16_t h[4] = {0, 0, 0, 0x3c00};
-    std::memcpy(h, texel, 2 * Channels);
-#if defined(OITREF_HAVE_F16C)
-    glm::vec4 d;
-    _mm_storeu_ps(&d[0], _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(h))));
-#else
-    const glm::vec4 d(decodeHalfInline(h[0]), decodeHalfInline(h[1]), decodeHalfInline(h[2]), decodeHalfInline(h[3]));
-#endif
-    const glm::vec4 r = b.llvmpipeBlend_(b.llvmpipePlan_, b.rawConstant_, source, d);
-    for (int c = 0; c < Channels; ++c) h[c] = encodeHalfInline(r[c], b.profile_.fp16);
-    std::memcpy(texel, h, 2 * Channels);
-  } else {
-    float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-    std::memcpy(v, texel, 4 * Channels);
-    const glm::vec4 d(v[0], v[1], v[2], v[3]);
-    const glm::vec4 r = b.llvmpipeBlend_(b.llvmpipePlan_, b.rawConstant_, source, d);
-    std::memcpy(texel, &r[0], 4 * Channels);
+  const v4f d = Half ? loadHalfTexel<Channels>(texel) : loadFloatTexel<Channels>(texel);
+  const v4f r = b.llvmpipeBlend_(b.llvmpipePlan_, load4(b.rawConstant_), load4(source), d);
+  for (int c = 0; c < Channels; ++c) {
+    if constexpr (Half) {
+      const uint16_t h = encodeHalfInline(r[c], b.profile_.fp16);
+      std::memcpy(texel + 2 * c, &h, 2);
+    } else {
+      const float v = r[c];
+      std::memcpy(texel + 4 * c, &v, 4);
+    }
   }
 }
 
@@ -173,32 +185,24 @@ void TargetBlender::integerUnormKernel(const TargetBlender& b, const glm::vec4& 
 
 template <int Channels, int State>
 void TargetBlender::unorm8Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  glm::vec4 result = source;
+  v4f result = load4(source);
   if (enabled<State>(b)) {
-    glm::vec4 d(0.0f, 0.0f, 0.0f, 1.0f);
+    float d[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     for (int c = 0; c < Channels; ++c) d[c] = kUnorm8Decode[texel[c]];
-    result = store4(blendValues(compiledBlend<State>(b), load4(source), load4(d), load4(b.constant_), true, Channels == 4));
+    result = blendValues(compiledBlend<State>(b), result, v4f{d[0], d[1], d[2], d[3]}, load4(b.constant_), true, Channels == 4);
   }
-  const v4i codes = encodeUnorm4(load4(result), 8, b.profile_.unorm);
+  const v4i codes = encodeUnorm4(result, 8, b.profile_.unorm);
   for (int c = 0; c < Channels; ++c) texel[c] = uint8_t(codes[c]);
 }
 
 template <int Channels, int State>
 void TargetBlender::halfKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  uint16_t h[4] = {0, 0, 0, 0x3c00};
-  glm::vec4 result = source;
-  if (enabled<State>(b)) {
-    std::memcpy(h, texel, 2 * Channels);
-    glm::vec4 d;
+  uint16_t h[4];
+  v4f result = load4(source);
+  if (enabled<State>(b))
+    result = blendValues(compiledBlend<State>(b), result, loadHalfTexel<Channels>(texel), load4(b.constant_), false, Channels == 4);
 #if defined(OITREF_HAVE_F16C)
-    _mm_storeu_ps(&d[0], _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(h))));
-#else
-    for (int c = 0; c < 4; ++c) d[c] = decodeHalfInline(h[c]);
-#endif
-    result = store4(blendValues(compiledBlend<State>(b), load4(source), load4(d), load4(b.constant_), false, Channels == 4));
-  }
-#if defined(OITREF_HAVE_F16C)
-  const __m128 v = _mm_loadu_ps(&result[0]);
+  const __m128 v = (__m128)result;
   const __m128i packed = b.profile_.fp16 == Rounding::TowardZero
                              ? _mm_cvtps_ph(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
                              : _mm_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
@@ -211,13 +215,13 @@ void TargetBlender::halfKernel(const TargetBlender& b, const glm::vec4& source, 
 
 template <int Channels, int State>
 void TargetBlender::float32Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  glm::vec4 result = source;
-  if (enabled<State>(b)) {
-    glm::vec4 d(0.0f, 0.0f, 0.0f, 1.0f);
-    std::memcpy(&d[0], texel, 4 * Channels);
-    result = store4(blendValues(compiledBlend<State>(b), load4(source), load4(d), load4(b.constant_), false, Channels == 4));
+  v4f result = load4(source);
+  if (enabled<State>(b))
+    result = blendValues(compiledBlend<State>(b), result, loadFloatTexel<Channels>(texel), load4(b.constant_), false, Channels == 4);
+  for (int c = 0; c < Channels; ++c) {
+    const float v = result[c];
+    std::memcpy(texel + 4 * c, &v, 4);
   }
-  std::memcpy(texel, &result[0], 4 * Channels);
 }
 
 }  // namespace oitref::detail
