@@ -198,3 +198,57 @@ TEST_CASE("fragment ops: full-screen passes, texel fetch of an earlier pass, vie
       }
     }
 }
+
+TEST_CASE("fragment ops: a batch program gives the per-fragment program's attachments and counts", "[fragment]") {
+  // The per-fragment shader is the oracle of FragmentProgram::batch (programOf): the same draws,
+  // once with the shader alone and once with the batch, must leave identical bytes in the colour
+  // and depth attachments and identical counts — with early and late tests, discard, gl_FragDepth
+  // and a full-screen pass that reads an earlier pass's attachment.
+  const Geometry g = overlappingTriangles(150, 11);
+  const auto shader = [](const FragmentInput& in, FragmentOutput& o) {
+    if (in.primitiveId % 5 == 1 && in.x % 3 == 0) return o.discard();
+    if (in.primitiveId % 4 == 2) o.setDepth(float(in.x) / float(W) * 0.5f + 0.1f);
+    o.write(0, colorOf(in.primitiveId) * (0.5f + in.depth));
+    if (in.primitiveId % 2) o.write(1, glm::vec4(in.fragCoord, in.viewDepth, in.frontFacing ? 1.0f : 0.0f));
+  };
+  for (bool early : {false, true}) {
+    std::vector<uint8_t> bytes[2];
+    DrawStats stats[2];
+    for (int batch = 0; batch < 2; ++batch) {
+      Renderer r(RendererOptions{2, 8});
+      Image a(makeFormat(FormatId::RGBA16F), W, H), b(makeFormat(FormatId::RGBA8), W, H), c(makeFormat(FormatId::RGBA32F), W, H);
+      a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+      b.clear({0.4f, 0.5f, 0.6f, 1}, exactProfile());
+      DepthBuffer depth(DepthFormat::D24, W, H);
+      Framebuffer fb;
+      fb.color[0] = &a, fb.color[1] = &b, fb.depth = &depth;
+      PipelineState st;
+      st.blend[0] = kOver;
+      st.depth = {true, CompareFunc::Less, true, false};
+      FragmentProgram program = batch ? programOf(shader, true, true, early) : FragmentProgram{shader, true, true, early};
+      stats[batch] = r.draw(fb, st, g, program);
+      // A full-screen pass that fetches the first pass's target.
+      Framebuffer full;
+      full.color[0] = &c;
+      const auto fetch = [&a](const FragmentInput& in, FragmentOutput& o) {
+        if ((in.x + in.y) % 7) o.write(0, a.fetch(in.x, in.y) * 2.0f);
+      };
+      const DrawStats fs = r.drawFullscreen(full, PipelineState{}, batch ? programOf(fetch) : FragmentProgram{fetch});
+      stats[batch].fragmentsWritten += fs.fragmentsWritten;
+      for (const Image* image : {&a, &b, &c}) bytes[batch].insert(bytes[batch].end(), image->bytes().begin(), image->bytes().end());
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+          const uint32_t d = depth.load(x, y);
+          bytes[batch].insert(bytes[batch].end(), reinterpret_cast<const uint8_t*>(&d), reinterpret_cast<const uint8_t*>(&d) + 4);
+        }
+    }
+    INFO("early fragment tests " << early);
+    CHECK(bytes[0] == bytes[1]);
+    CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+    CHECK(stats[0].fragmentsDepthFailed == stats[1].fragmentsDepthFailed);
+    CHECK(stats[0].fragmentsDiscarded == stats[1].fragmentsDiscarded);
+    CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+    CHECK(stats[1].fragmentsDiscarded > 0);
+    CHECK(stats[1].fragmentsDepthFailed > 0);
+  }
+}

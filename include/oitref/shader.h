@@ -67,6 +67,12 @@ class FragmentOutput {
 
 using FragmentShader = std::function<void(const FragmentInput&, FragmentOutput&)>;
 
+// The same shader over a batch of fragments of distinct pixels: out[i] for in[i], i < count, each
+// output reset beforehand. Optional, for speed (one call per batch, the per-fragment code inlined
+// into the loop); it must compute exactly what `shader` computes for each fragment, which stays
+// the oracle (RendererOptions::perFragment). programOf() below makes both from one callable.
+using FragmentBatchShader = std::function<void(const FragmentInput* in, FragmentOutput* out, int count)>;
+
 // A shader plus what it declares, which decides early or late depth testing (GL 4.6 §14.9.4,
 // §15.2.4): a shader that neither discards nor writes depth is tested before shading; one that
 // may discard or writes depth is tested after; earlyFragmentTests (GLSL
@@ -78,6 +84,19 @@ struct FragmentProgram {
   bool mayDiscard = false;
   bool writesDepth = false;
   bool earlyFragmentTests = false;
+  FragmentBatchShader batch;  // optional: `shader` over a batch
 };
+
+// A program whose per-fragment and batch shaders are the one callable
+// shader(const FragmentInput&, FragmentOutput&).
+template <typename Shader>
+FragmentProgram programOf(Shader shader, bool mayDiscard = false, bool writesDepth = false,
+                          bool earlyFragmentTests = false) {
+  FragmentProgram program{shader, mayDiscard, writesDepth, earlyFragmentTests, {}};
+  program.batch = [shader](const FragmentInput* in, FragmentOutput* out, int count) {
+    for (int i = 0; i < count; ++i) shader(in[i], out[i]);
+  };
+  return program;
+}
 
 }  // namespace oitref

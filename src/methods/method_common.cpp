@@ -95,11 +95,11 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
     if (part.transparent && !everything) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
     report.stats += context_.renderer.draw(fb, st, clipGeometry(part),
-                                           {[&](const FragmentInput& in, FragmentOutput& out) {
+                                           programOf([&object](const FragmentInput& in, FragmentOutput& out) {
                                              const glm::vec4 c = shadeSurface(object, in.attributes);
                                              out.write(0, glm::vec4(glm::vec3(c), 1.0f));
                                              out.write(1, glm::vec4(glm::vec3(c), 1.0f));
-                                           }});
+                                           }));
   }
   report.ms = msSince(t0);
   result_.passes.push_back(report);
@@ -128,10 +128,10 @@ void PassRunner::drawTransparent(const std::string& name, Framebuffer& fb, const
   result_.passes.push_back(report);
 }
 
-void PassRunner::fullscreenPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
-                                const FragmentShader& shader) {
+void PassRunner::fullscreenProgram(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                                   const FragmentProgram& program) {
   const auto t0 = std::chrono::steady_clock::now();
-  PassReport report{name, 0, context_.renderer.drawFullscreen(fb, state, {shader})};
+  PassReport report{name, 0, context_.renderer.drawFullscreen(fb, state, program)};
   report.ms = msSince(t0);
   result_.passes.push_back(report);
 }

@@ -71,16 +71,15 @@ class PassRunner {
   // Draws the transparent objects in submission order into fb with `state`; the shader,
   // shader(const FragmentInput&, const glm::vec4& color, FragmentOutput&), gets each fragment's
   // straight colour from the object's shading function (shadeSurface, shared with the ray caster).
-  // A template so that the method's shader is compiled into the fragment program: one indirect
-  // call per fragment, not one per layer of lambdas.
+  // A template so that the method's shader is compiled into the fragment program (programOf): one
+  // indirect call per batch of fragments, not one per fragment and layer of lambdas.
   template <typename Shader>
   void transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const Shader& shader,
                        bool mayDiscard = false) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
-      return FragmentProgram{[&object, &shader](const FragmentInput& in, FragmentOutput& out) {
-                               shader(in, shadeSurface(object, in.attributes), out);
-                             },
-                             mayDiscard, false, false};
+      return programOf([&object, &shader](const FragmentInput& in, FragmentOutput& out) {
+        shader(in, shadeSurface(object, in.attributes), out);
+      }, mayDiscard);
     });
   }
   // Index (in the scene) of the object whose triangles are being drawn.
@@ -108,8 +107,14 @@ class PassRunner {
   // over each in result[0], result[1] (written with alpha 1), or false to keep both.
   using ShaderComposite = std::function<bool(const FragmentInput&, const glm::vec3 background[2], glm::vec3 result[2])>;
   void compositeOntoBackgrounds(FrameTargets& targets, const std::string& name, const ShaderComposite& resolve);
-  // One full-screen pass.
-  void fullscreenPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const FragmentShader& shader);
+  // One full-screen pass; shader(const FragmentInput&, FragmentOutput&), compiled into a batch
+  // program (programOf).
+  template <typename Shader>
+  void fullscreenPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const Shader& shader) {
+    fullscreenProgram(name, fb, state, programOf(shader));
+  }
+  void fullscreenProgram(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                         const FragmentProgram& program);
 
  private:
   const FrameContext& context_;

@@ -22,6 +22,7 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
   vertexAttributes_.assign(size_t(3 * n), 0.0);
   attributes_.assign(size_t(n), 0.0f);
   outputs_.resize(kBatch);
+  batchAttributes_.assign(size_t(kBatch * n), 0.0f);
   // x_n = (x + ½ − vx)·(2/vw) − 1
   const double vw = viewport.x1 - viewport.x0, vh = viewport.y1 - viewport.y0;
   ndcScaleX_ = 2.0 / vw, ndcOffsetX_ = (0.5 - viewport.x0) * (2.0 / vw) - 1.0;
@@ -56,26 +57,24 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
   }
 }
 
-void FragmentStage::interpolateAttributes(const double* b) {
+void FragmentStage::interpolateAttributes(const double* b, float* out) const {
   const int n = int(attributes_.size());
   const double* va = vertexAttributes_.data();
-  for (int k = 0; k < n; ++k) attributes_[size_t(k)] = float(b[0] * va[k] + b[1] * va[n + k] + b[2] * va[2 * n + k]);
+  for (int k = 0; k < n; ++k) out[k] = float(b[0] * va[k] + b[1] * va[n + k] + b[2] * va[2 * n + k]);
 }
 
-FragmentInput FragmentStage::fragmentInput(int x, int y, double z, double w) const {
-  FragmentInput in;
+// Filled field by field in place: built as a temporary and copied, the copy's 16-byte loads of
+// the temporary would wait for its narrower stores (no store forwarding).
+void FragmentStage::fillInput(FragmentInput& in, int x, int y, double z, double w) const {
   in.x = x;
   in.y = y;
   in.fragCoord = {float(x) + 0.5f, float(y) + 0.5f};
   in.depth = float(z);
   in.viewDepth = float(w);
-  if (triangle_) {
-    in.frontFacing = triangle_->frontFacing;
-    in.primitiveId = triangle_->primitiveId;
-  }
+  in.frontFacing = triangle_ ? triangle_->frontFacing : true;
+  in.primitiveId = triangle_ ? triangle_->primitiveId : 0;
   in.attributes = attributes_.data();
   in.attributeCount = int(attributes_.size());
-  return in;
 }
 
 void FragmentStage::fragment(int x, int y) {
@@ -83,7 +82,8 @@ void FragmentStage::fragment(int x, int y) {
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
   double w, b[3], z;
   interpolate(x, yn, w, b[0], b[1], b[2], z);
-  FragmentInput in = fragmentInput(x, y, z, w);
+  FragmentInput in;
+  fillInput(in, x, y, z, w);
   ++counters_.rasterized;
   process(in, z, b);
 }
@@ -109,25 +109,74 @@ void FragmentStage::span(int y, int x0, int x1) {
         counters_.depthFailed += !passed[i];
       }
     }
+    if (program_.batch) {
+      const int attributeCount = int(attributes_.size());
+      int count = 0;
+      for (int i = 0; i < n; ++i) {
+        if (earlyDepthTest_ && !passed[i]) continue;
+        FragmentInput& in = inputs_[count];
+        fillInput(in, start + i, y, z[i], w[i]);
+        float* attributes = batchAttributes_.data() + size_t(count * attributeCount);
+        const double b[3] = {b0[i], b1[i], b2[i]};
+        interpolateAttributes(b, attributes);
+        in.attributes = attributes;
+        batchZ_[count++] = z[i];
+      }
+      shadeAndBlendBatch(y, count);
+      continue;
+    }
     int alive = 0;
     for (int i = 0; i < n; ++i) {
       if (earlyDepthTest_ && !passed[i]) continue;
-      FragmentInput in = fragmentInput(start + i, y, z[i], w[i]);
+      FragmentInput in;
+      fillInput(in, start + i, y, z[i], w[i]);
       const double b[3] = {b0[i], b1[i], b2[i]};
-      if (shade(in, z[i], b, outputs_[size_t(alive)], earlyDepthTest_)) batchX_[alive++] = start + i;
+      if (shade(in, z[i], b, outputs_[size_t(alive)], earlyDepthTest_)) {
+        batchX_[alive] = start + i;
+        batchOutput_[alive] = alive;
+        ++alive;
+      }
     }
     blendBatch(y, alive);
   }
 }
 
+void FragmentStage::shadeAndBlendBatch(int y, int count) {
+  for (int i = 0; i < count; ++i) outputs_[size_t(i)].reset();
+  program_.batch(inputs_, outputs_.data(), count);
+  counters_.shaded += uint64_t(count);
+  int alive = 0;
+  for (int i = 0; i < count; ++i)
+    if (afterShader(inputs_[i], batchZ_[i], outputs_[size_t(i)])) {
+      batchX_[alive] = inputs_[i].x;
+      batchOutput_[alive++] = i;
+    }
+  blendBatch(y, alive);
+}
+
 void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
   for (int start = x0; start < x1; start += kBatch) {
     const int n = std::min(kBatch, x1 - start);
+    counters_.rasterized += uint64_t(n);
+    if (program_.batch) {
+      int count = 0;
+      for (int i = 0; i < n; ++i) {
+        fillInput(inputs_[count], start + i, y, 0.0, 1.0);
+        if (!earlyTest(inputs_[count], 0.0)) continue;
+        batchZ_[count++] = 0.0;
+      }
+      shadeAndBlendBatch(y, count);
+      continue;
+    }
     int alive = 0;
     for (int i = 0; i < n; ++i) {
-      FragmentInput in = fragmentInput(start + i, y, 0.0, 1.0);
-      ++counters_.rasterized;
-      if (shade(in, 0.0, nullptr, outputs_[size_t(alive)])) batchX_[alive++] = start + i;
+      FragmentInput in;
+      fillInput(in, start + i, y, 0.0, 1.0);
+      if (shade(in, 0.0, nullptr, outputs_[size_t(alive)])) {
+        batchX_[alive] = start + i;
+        batchOutput_[alive] = alive;
+        ++alive;
+      }
     }
     blendBatch(y, alive);
   }
@@ -142,8 +191,8 @@ void FragmentStage::blendBatch(int y, int count) {
     Image& image = *fb_.color[size_t(t)];
     int n = 0;
     for (int i = 0; i < count; ++i)
-      if (outputs_[size_t(i)].writtenMask() & (1u << t)) {
-        sources[n] = &outputs_[size_t(i)].color(t);
+      if (outputs_[size_t(batchOutput_[i])].writtenMask() & (1u << t)) {
+        sources[n] = &outputs_[size_t(batchOutput_[i])].color(t);
         texels[n++] = image.texel(batchX_[i], y);
       }
     if (n) blenders_[size_t(t)].blendBatch(sources, texels, n);
@@ -151,7 +200,8 @@ void FragmentStage::blendBatch(int y, int count) {
 }
 
 void FragmentStage::fullscreenPixel(int x, int y) {
-  FragmentInput in = fragmentInput(x, y, 0.0, 1.0);
+  FragmentInput in;
+  fillInput(in, x, y, 0.0, 1.0);
   ++counters_.rasterized;
   process(in, 0.0, nullptr);
 }
@@ -166,44 +216,48 @@ void FragmentStage::process(FragmentInput& in, double z, const double* perspecti
   }
 }
 
-// Attributes are interpolated only for fragments that reach the shader.
-bool FragmentStage::shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out,
-                          bool earlyTestDone) {
+bool FragmentStage::earlyTest(const FragmentInput& in, double z) {
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
-  const bool testing = depth != nullptr && ds.testEnabled;  // GL §17.3.4: no test, no depth write
-  // Not converted again when the caller's early test already did.
-  uint32_t fragmentDepth = testing && !(earlyTests_ && earlyTestDone) ? encodeDepth(z, depth->format()) : 0;
-
-  if (testing && earlyTests_ && !earlyTestDone) {
-    if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
-      ++counters_.depthFailed;
-      return false;
-    }
-    if (ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
+  if (!earlyTests_ || depth == nullptr || !ds.testEnabled) return true;  // GL §17.3.4: no test, no depth write
+  const uint32_t fragmentDepth = encodeDepth(z, depth->format());
+  if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
+    ++counters_.depthFailed;
+    return false;
   }
+  if (ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
+  return true;
+}
 
-  if (perspectiveBary) interpolateAttributes(perspectiveBary);
-  out.reset();
-  program_.shader(in, out);
-  ++counters_.shaded;
+bool FragmentStage::afterShader(const FragmentInput& in, double z, const FragmentOutput& out) {
   if (out.discarded()) {
     ++counters_.discarded;
     return false;
   }
-
-  if (testing && !earlyTests_) {
-    if (out.depthWritten()) fragmentDepth = encodeDepth(double(out.depth()), depth->format());
+  DepthBuffer* depth = fb_.depth;
+  const DepthState& ds = state_.depth;
+  if (!earlyTests_ && depth != nullptr && ds.testEnabled) {
+    const uint32_t fragmentDepth = encodeDepth(out.depthWritten() ? double(out.depth()) : z, depth->format());
     if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
       ++counters_.depthFailed;
       return false;
     }
     if (ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
   }
-
   if (!(out.writtenMask() & boundTargets_)) return false;
   ++counters_.written;
   return true;
+}
+
+// Attributes are interpolated only for fragments that reach the shader.
+bool FragmentStage::shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out,
+                          bool earlyTestDone) {
+  if (!earlyTestDone && !earlyTest(in, z)) return false;
+  if (perspectiveBary) interpolateAttributes(perspectiveBary, attributes_.data());
+  out.reset();
+  program_.shader(in, out);
+  ++counters_.shaded;
+  return afterShader(in, z, out);
 }
 
 }  // namespace oitref::detail

@@ -52,8 +52,16 @@ class FragmentStage {
   // Everything before blending; true when the fragment reaches blending with `out`'s colours.
   // `earlyTestDone`: the caller ran the early depth test (and write) already.
   bool shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out, bool earlyTestDone = false);
-  void interpolateAttributes(const double* b);
-  FragmentInput fragmentInput(int x, int y, double z, double w) const;
+  // The early depth test and write, where the program has early tests; false when it fails.
+  bool earlyTest(const FragmentInput& in, double z);
+  // After the shader: discard, the late depth test and write (window z `z` unless the shader set
+  // one), and whether the fragment wrote a bound output, which makes it reach blending.
+  bool afterShader(const FragmentInput& in, double z, const FragmentOutput& out);
+  // The batch path: inputs_[0, count) of row y with window depths batchZ_, early-tested already,
+  // shaded by one program_.batch call, then afterShader and blending.
+  void shadeAndBlendBatch(int y, int count);
+  void interpolateAttributes(const double* b, float* out) const;
+  void fillInput(FragmentInput& in, int x, int y, double z, double w) const;
   // Pixel x of the row at NDC y `yn`: the perspective-correct barycentrics b, the view depth w and
   // the window z, the expressions of the header comment, one rounding each in double. `span`
   // evaluates it over a batch in one loop (the compiler may use vector lanes: the same IEEE
@@ -67,7 +75,8 @@ class FragmentStage {
     b0 = k0 * w, b1 = k1 * w, b2 = k2 * w;
     z = 0.5 * ((b0 * clipZ_[0] + b1 * clipZ_[1] + b2 * clipZ_[2]) / w) + 0.5;
   }
-  // Blends the batch's surviving fragments (outputs_[i] at x = batchX_[i] on row y), target by target.
+  // Blends the batch's surviving fragments (outputs_[batchOutput_[i]] at x = batchX_[i] on row y),
+  // target by target.
   void blendBatch(int y, int count);
 
   static constexpr int kBatch = 64;
@@ -90,7 +99,10 @@ class FragmentStage {
   FragmentOutput output_;
   FragmentCounters counters_;
   std::vector<FragmentOutput> outputs_;  // kBatch, for span()
-  int batchX_[kBatch];
+  int batchX_[kBatch], batchOutput_[kBatch];
+  FragmentInput inputs_[kBatch];          // the batch path's fragments
+  double batchZ_[kBatch];
+  std::vector<float> batchAttributes_;    // kBatch × attributeCount
 };
 
 }  // namespace oitref::detail
