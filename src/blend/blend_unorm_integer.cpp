@@ -153,10 +153,60 @@ UI_INLINE void run(const UnormIntegerPlan& p, const glm::vec4& source, uint8_t* 
 
 void general(const UnormIntegerPlan& plan, const glm::vec4& source, uint8_t* texel) { run(plan, source, texel); }
 
+// `run` for 8-bit layouts with every channel written, the four channels in vector lanes (32-bit
+// lanes hold a·b ≤ 255² exactly): factorInteger, equationInteger and mulUnormInteger lane by
+// lane, as one vector each. Lanes past the layout's channels are computed and not stored.
+UI_INLINE v4i factor8(BlendFactor f, v4i s, v4i d, int32_t ad, v4i c) {
+  const FactorRow fr = factorRow(f);
+  const int32_t saturate = s[3] < 255 - ad ? s[3] : 255 - ad;
+  v4i v{};
+  switch (fr.row) {
+    case 0: v = v4i{0, 0, 0, 0}; break;
+    case 1: v = s; break;
+    case 2: v = v4i{d[0], d[1], d[2], ad}; break;
+    case 3: v = v4i{s[3], s[3], s[3], s[3]}; break;
+    case 4: v = v4i{ad, ad, ad, ad}; break;
+    case 5: v = c; break;
+    case 6: v = v4i{c[3], c[3], c[3], c[3]}; break;
+    case 7: v = v4i{saturate, saturate, saturate, 255}; break;
+  }
+  return fr.oneMinus ? 255 - v : v;
+}
+UI_INLINE v4i equation8(BlendEquation eq, v4i s, v4i d, v4i sf, v4i df) {
+  auto mul = [](v4i x, v4i y) {
+    const v4i ab = x * y;
+    return (ab + (ab >> 8) + 128) >> 8;
+  };
+  v4i r{};
+  switch (eq) {
+    case BlendEquation::Add: r = mul(s, sf) + mul(d, df); break;
+    case BlendEquation::Subtract: r = mul(s, sf) - mul(d, df); break;
+    case BlendEquation::ReverseSubtract: r = mul(d, df) - mul(s, sf); break;
+    case BlendEquation::Min: return s < d ? s : d;
+    case BlendEquation::Max: return s > d ? s : d;
+  }
+  r = r < 0 ? 0 : r;
+  return r > 255 ? 255 : r;  // saturating, as the integer ops are
+}
+template <BlendState State, int Channels>
+UI_INLINE void run8(const UnormIntegerPlan& p, const glm::vec4& source, uint8_t* texel) {
+  const v4i s = encodeUnorm4(load4(source), 8, p.rounding);
+  const v4i d{texel[0], Channels > 1 ? texel[1] : 0, Channels > 2 ? texel[2] : 0, Channels == 4 ? texel[3] : 255};
+  const int32_t ad = Channels == 4 ? d[3] : 255;
+  const v4i c{int32_t(p.constant[0]), int32_t(p.constant[1]), int32_t(p.constant[2]), int32_t(p.constant[3])};
+  v4i sf = factor8(State.srcRgb, s, d, ad, c), df = factor8(State.dstRgb, s, d, ad, c);
+  sf[3] = factor8(State.srcAlpha, s, d, ad, c)[3];
+  df[3] = factor8(State.dstAlpha, s, d, ad, c)[3];
+  v4i r = equation8(State.equationRgb, s, d, sf, df);
+  if constexpr (State.equationAlpha != State.equationRgb) r[3] = equation8(State.equationAlpha, s, d, sf, df)[3];
+  for (int ch = 0; ch < Channels; ++ch) texel[ch] = uint8_t(r[ch]);
+}
+
 // `run` with the blend state and an 8-bit layout of Channels channels, all written, as
 // compile-time constants; the constant and the rounding stay variables.
 template <BlendState State, int Channels>
 void compiled(const UnormIntegerPlan& plan, const glm::vec4& source, uint8_t* texel) {
+  if (!plan.lerp) return run8<State, Channels>(plan, source, texel);
   UnormIntegerPlan p = plan;
   p.state = State;
   p.channels = Channels;
