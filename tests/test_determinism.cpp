@@ -4,10 +4,12 @@
 #include <catch2/catch.hpp>
 
 #include <cfenv>
+
 #if defined(__x86_64__)
 #include <xmmintrin.h>
 #endif
 
+#include "oitref/blend.h"
 #include "oitref/renderer.h"
 #include "tools/demo_scene.h"
 
@@ -89,10 +91,24 @@ TEST_CASE("determinism: the caller's floating-point environment does not change 
     Renderer hostile(RendererOptions{2, 16});
     got = render(hostile);
   }
+  // The per-texel entry points shaders call from the caller's thread: a value that rounds, and
+  // one whose fp16 is denormal (FTZ would flush it).
+  Image stored(parseFormat("rgba16f"), 2, 1);
+  stored.store(0, 0, glm::vec4(1.0f / 3.0f, 0x1p-20f, -0x1.8p-23f, 0.7f), exactProfile());
+  blendIntoTexel(stored.format(), BlendState::same(BlendEquation::Add, BlendFactor::SrcAlpha, BlendFactor::One),
+                 glm::vec4(0.0f), exactProfile(), glm::vec4(0x1p-21f, 1.0f / 7.0f, 2.0f / 3.0f, 0.3f), stored.texel(1, 0));
+  // The guard restores the caller's environment.
+  CHECK(std::fegetround() == FE_TOWARDZERO);
 #if defined(__x86_64__)
+  CHECK((_mm_getcsr() & 0x8040u) == 0x8040u);
   _mm_setcsr(savedCsr);
 #endif
   std::fesetround(savedRounding);
   CHECK(got[0].sameBits(want[0]));
   CHECK(got[1].sameBits(want[1]));
+  Image expected(parseFormat("rgba16f"), 2, 1);
+  expected.store(0, 0, glm::vec4(1.0f / 3.0f, 0x1p-20f, -0x1.8p-23f, 0.7f), exactProfile());
+  blendIntoTexel(expected.format(), BlendState::same(BlendEquation::Add, BlendFactor::SrcAlpha, BlendFactor::One),
+                 glm::vec4(0.0f), exactProfile(), glm::vec4(0x1p-21f, 1.0f / 7.0f, 2.0f / 3.0f, 0.3f), expected.texel(1, 0));
+  CHECK(stored.sameBits(expected));
 }
