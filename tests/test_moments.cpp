@@ -247,7 +247,7 @@ TEST_CASE("moments: the root finders against polynomials with known roots", "[mo
   // e1 = 0.45, e2 = 0.08 − 0.32 − 0.76 − 0.04 − 0.095 + 0.38 = −0.755,
   // e3 = 0.032 + 0.076 − 0.304 − 0.038 = −0.234, e4 = 0.0304.
   const double quartic[5] = {0.0304, 0.234, -0.755, -0.45, 1.0};
-  const std::vector<double> r = mm::realRootsOfRealRooted(quartic, 4);
+  const auto r = mm::realRootsOfRealRooted(quartic, 4);
   REQUIRE(r.size() == 4);
   const double want[4] = {-0.8, -0.1, 0.4, 0.95};
   for (int i = 0; i < 4; ++i) CHECK(r[size_t(i)] == Approx(want[i]).margin(1e-12));

@@ -105,8 +105,8 @@ void momentsOf(const MomentSet& set, float z, const WrappingZone& zone, float* o
 // monotonically to that root (the polynomial is convex and increasing beyond it); stop when an
 // iterate no longer decreases. Then deflate by synthetic division and repeat; degree 2 by the
 // quadratic formula in its cancellation-free form. NaN roots when the discriminant is negative.
-std::vector<double> realRootsOfRealRooted(const double* c, int n) {
-  std::vector<double> roots;
+RootList<double> realRootsOfRealRooted(const double* c, int n) {
+  RootList<double> roots;
   if (!(c[n] != 0.0) || !std::isfinite(c[n])) return roots;
   double a[5];
   for (int k = 0; k <= n; ++k) a[k] = c[k] / c[n];
@@ -146,7 +146,14 @@ std::vector<double> realRootsOfRealRooted(const double* c, int n) {
     }
     for (int k = 0; k < d; ++k) a[k] = q[k];
   }
-  std::sort(roots.begin(), roots.end());
+  // Ascending, by insertion (what std::sort does for so few; a NaN pair sends the caller to its
+  // fallback whatever its place).
+  for (int i = 1; i < roots.count; ++i) {
+    const double v = roots.values[i];
+    int k = i;
+    for (; k > 0 && v < roots.values[k - 1]; --k) roots.values[k] = roots.values[k - 1];
+    roots.values[k] = v;
+  }
   return roots;
 }
 
@@ -154,8 +161,9 @@ std::vector<double> realRootsOfRealRooted(const double* c, int n) {
 // others): z_i −= w / (1 − w·Σ_{j≠i} 1/(z_i − z_j)) with w = p(z_i)/p'(z_i), until no root moves
 // by more than 1e-15 of 1 + its size, or 500 sweeps. Cubically convergent for simple roots, which
 // matters here: MBOIT's roots crowd together when layers do.
-std::vector<std::complex<double>> complexRoots(const std::complex<double>* c, int n) {
-  std::vector<std::complex<double>> out(size_t(n), std::complex<double>(NAN, NAN));
+RootList<std::complex<double>> complexRoots(const std::complex<double>* c, int n) {
+  RootList<std::complex<double>> out;
+  for (int i = 0; i < n; ++i) out.push_back(std::complex<double>(NAN, NAN));
   const Cd lead{c[n].real(), c[n].imag()};
   if (!(norm(lead) > 0.0) || !std::isfinite(norm(lead))) return out;
   Cd a[5], z[4];
@@ -180,7 +188,7 @@ std::vector<std::complex<double>> complexRoots(const std::complex<double>* c, in
     }
     if (!moved) break;
   }
-  for (int i = 0; i < n; ++i) out[size_t(i)] = {z[i].x, z[i].y};
+  for (int i = 0; i < n; ++i) out.values[i] = {z[i].x, z[i].y};
   return out;
 }
 
@@ -280,7 +288,7 @@ float powerMomentAbsorbance(int count, const float* b, float z, float bias, cons
     for (int k = i + 1; k <= n; ++k) c[i] -= L[k][i] * c[k];
   double cd[5];
   for (int k = 0; k <= n; ++k) cd[k] = c[k];
-  const std::vector<double> roots = realRootsOfRealRooted(cd, n);
+  const RootList<double> roots = realRootsOfRealRooted(cd, n);
   if (int(roots.size()) != n) return fallBack();
   float x[5], f[5];
   x[0] = z, f[0] = overestimation;
@@ -334,7 +342,7 @@ float trigMomentAbsorbance(int count, const float* b, float z, float bias, float
   // The roots of Σ conj(c_k)·x^k lie on the unit circle.
   std::complex<double> cd[5];
   for (int k = 0; k <= n; ++k) cd[k] = {double(c[k].x), -double(c[k].y)};
-  const std::vector<std::complex<double>> roots = complexRoots(cd, n);
+  const RootList<std::complex<double>> roots = complexRoots(cd, n);
   const float depthParameter = circleToParameter(w.x, w.y);
   Cf x[5];
   float f[5];

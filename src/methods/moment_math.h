@@ -64,7 +64,21 @@ float trigMomentAbsorbance(int count, const float* b, float z, float bias, float
 // The real roots of a real-rooted polynomial Σ c_k x^k of degree n ≤ 4 (ascending order), and
 // the roots of a complex polynomial of degree n ≤ 4 (any order): deterministic iterations in
 // double (see moment_math.cpp). Exposed for the tests.
-std::vector<double> realRootsOfRealRooted(const double* c, int n);
-std::vector<std::complex<double>> complexRoots(const std::complex<double>* c, int n);
+// The roots come in a fixed-capacity list: these run once per fragment, where a heap allocation
+// would cost as much as the iterations.
+template <typename T>
+struct RootList {
+  T values[4];
+  int count = 0;
+  void push_back(const T& v) { values[count++] = v; }
+  size_t size() const { return size_t(count); }
+  const T& operator[](size_t i) const { return values[i]; }
+  T* begin() { return values; }
+  T* end() { return values + count; }
+  const T* begin() const { return values; }
+  const T* end() const { return values + count; }
+};
+RootList<double> realRootsOfRealRooted(const double* c, int n);
+RootList<std::complex<double>> complexRoots(const std::complex<double>* c, int n);
 
 }  // namespace oitref::methods
