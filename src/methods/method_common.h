@@ -82,6 +82,31 @@ class PassRunner {
       }, mayDiscard);
     });
   }
+  // The same with a shader over a batch of fragments of distinct pixels:
+  // shader(const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count), for
+  // shaders whose arithmetic gains from seeing several fragments at once (lanes). The per-fragment
+  // program calls it with one fragment, so it stays the batch's oracle.
+  template <typename BatchShader>
+  void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                            const BatchShader& shader, bool mayDiscard = false) {
+    drawTransparent(name, fb, state, [&](const SceneObject& object) {
+      FragmentProgram program{[&object, &shader](const FragmentInput& in, FragmentOutput& out) {
+                                const glm::vec4 color = shadeSurface(object, in.attributes);
+                                shader(&in, &color, &out, 1);
+                              },
+                              mayDiscard, false, false, {}};
+      program.batch = [&object, &shader](const FragmentInput* in, FragmentOutput* out, int count) {
+        constexpr int kChunk = 64;
+        glm::vec4 colors[kChunk];
+        for (int start = 0; start < count; start += kChunk) {
+          const int n = std::min(kChunk, count - start);
+          for (int i = 0; i < n; ++i) colors[i] = shadeSurface(object, in[start + i].attributes);
+          shader(in + start, colors, out + start, n);
+        }
+      };
+      return program;
+    });
+  }
   // Index (in the scene) of the object whose triangles are being drawn.
   size_t currentObject() const { return currentObject_; }
   // The part's vertices through the vertex stage (toClipGeometry), computed once per frame: every
@@ -153,6 +178,23 @@ void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Im
                         out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
                         out.write(1, glm::vec4(c.a));
                       });
+}
+
+// The same with the weights of a batch of fragments at once: weights(const FragmentInput* in,
+// const glm::vec4* colors, float* w, int count) sets w[i] for each.
+template <typename Weights>
+void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weights& weights) {
+  Framebuffer fb = weightedAccumulationTargets(targets, accum, reveal);
+  run.transparentBatchPass("accumulate", fb, weightedAccumulationState(run.context().profile),
+                           [&weights](const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count) {
+                             float w[64];
+                             weights(in, colors, w, count);
+                             for (int i = 0; i < count; ++i) {
+                               const glm::vec4& c = colors[i];
+                               out[i].write(0, glm::vec4(glm::vec3(c) * c.a * w[i], c.a * w[i]));
+                               out[i].write(1, glm::vec4(c.a));
+                             }
+                           });
 }
 
 // The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal)
