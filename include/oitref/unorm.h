@@ -31,7 +31,10 @@ inline float clampUnit(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f
 inline uint32_t roundHalfEven(double p) {
   const uint32_t q = uint32_t(p);
   const double frac = p - double(q);  // exact
-  return q + ((frac > 0.5 || (frac == 0.5 && (q & 1))) ? 1u : 0u);
+  // Without branches: the fraction is random in a depth or colour stream, so a branch on it
+  // mispredicts half the time.
+  const uint32_t up = uint32_t(frac > 0.5) | (uint32_t(frac == 0.5) & q);
+  return q + (up & 1u);
 }
 
 inline uint32_t encodeUnorm(float value, int bits, UnormRounding rounding = UnormRounding::ExactNearestEven) {
