@@ -84,7 +84,7 @@ struct FragmentProgram {
   bool mayDiscard = false;
   bool writesDepth = false;
   bool earlyFragmentTests = false;
-  FragmentBatchShader batch;  // optional: `shader` over a batch
+  FragmentBatchShader batch = {};  // optional: `shader` over a batch
 };
 
 // A program whose per-fragment and batch shaders are the one callable

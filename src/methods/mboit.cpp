@@ -133,8 +133,8 @@ class Mboit final : public Method {
     // The weight e^(−b0·absorbance), the exponentials of a batch together (detExpBatch: the same
     // bits as one at a time, its division chains overlapped).
     accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentInput* in, const glm::vec4*, float* w, int count) {
-      double exponent[64], weight[64];
-      bool clear[64];
+      double exponent[kShaderBatch], weight[kShaderBatch];
+      bool clear[kShaderBatch];
       for (int i = 0; i < count; ++i) {
         const float b0 = b0Image.fetch(in[i].x, in[i].y).r;
         clear[i] = b0 < 0.00100050033f;

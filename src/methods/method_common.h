@@ -59,6 +59,9 @@ inline AttachmentDecl depthAttachment(std::string name, std::string purpose) {
 // "opaque" RGBA8 and "depth" d24: the start of every method's list.
 std::vector<AttachmentDecl> opaqueAttachments();
 
+// The most fragments a batch shader (PassRunner::transparentBatchPass) gets in one call.
+constexpr int kShaderBatch = 64;
+
 class PassRunner {
  public:
   PassRunner(const FrameContext& context, FrameResult& result) : context_(context), result_(result) {}
@@ -83,9 +86,9 @@ class PassRunner {
     });
   }
   // The same with a shader over a batch of fragments of distinct pixels:
-  // shader(const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count), for
-  // shaders whose arithmetic gains from seeing several fragments at once (lanes). The per-fragment
-  // program calls it with one fragment, so it stays the batch's oracle.
+  // shader(const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count),
+  // count ≤ kShaderBatch, for shaders whose arithmetic gains from seeing several fragments at once
+  // (lanes). The per-fragment program calls it with one fragment, so it stays the batch's oracle.
   template <typename BatchShader>
   void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                             const BatchShader& shader, bool mayDiscard = false) {
@@ -96,10 +99,9 @@ class PassRunner {
                               },
                               mayDiscard, false, false, {}};
       program.batch = [&object, &shader](const FragmentInput* in, FragmentOutput* out, int count) {
-        constexpr int kChunk = 64;
-        glm::vec4 colors[kChunk];
-        for (int start = 0; start < count; start += kChunk) {
-          const int n = std::min(kChunk, count - start);
+        glm::vec4 colors[kShaderBatch];
+        for (int start = 0; start < count; start += kShaderBatch) {
+          const int n = std::min(kShaderBatch, count - start);
           for (int i = 0; i < n; ++i) colors[i] = shadeSurface(object, in[start + i].attributes);
           shader(in + start, colors, out + start, n);
         }
@@ -165,29 +167,18 @@ inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
 
 // The accumulation pass of McGuire–Bavoil eq. 6 (listing 3), which WBOIT, MBOIT and MT share:
 // accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,
-// ONE_MINUS_SRC_COLOR, against the opaque depth; `weight` gives each fragment's w.
-// weight(const FragmentInput&, const glm::vec4& color) -> float.
+// ONE_MINUS_SRC_COLOR, against the opaque depth; weights(const FragmentInput* in,
+// const glm::vec4* colors, float* w, int count) sets each fragment's w of a batch at once
+// (count ≤ kShaderBatch); accumulateWeighted takes weight(const FragmentInput&, const glm::vec4&)
+// -> float, one fragment at a time.
 Framebuffer weightedAccumulationTargets(FrameTargets& targets, Image& accum, Image& reveal);
 PipelineState weightedAccumulationState(const Profile& profile);
-template <typename Weight>
-void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weight& weight) {
-  Framebuffer fb = weightedAccumulationTargets(targets, accum, reveal);
-  run.transparentPass("accumulate", fb, weightedAccumulationState(run.context().profile),
-                      [&weight](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
-                        const float w = weight(in, c);
-                        out.write(0, glm::vec4(glm::vec3(c) * c.a * w, c.a * w));
-                        out.write(1, glm::vec4(c.a));
-                      });
-}
-
-// The same with the weights of a batch of fragments at once: weights(const FragmentInput* in,
-// const glm::vec4* colors, float* w, int count) sets w[i] for each.
 template <typename Weights>
 void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weights& weights) {
   Framebuffer fb = weightedAccumulationTargets(targets, accum, reveal);
   run.transparentBatchPass("accumulate", fb, weightedAccumulationState(run.context().profile),
                            [&weights](const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count) {
-                             float w[64];
+                             float w[kShaderBatch];
                              weights(in, colors, w, count);
                              for (int i = 0; i < count; ++i) {
                                const glm::vec4& c = colors[i];
@@ -195,6 +186,13 @@ void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accu
                                out[i].write(1, glm::vec4(c.a));
                              }
                            });
+}
+template <typename Weight>
+void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weight& weight) {
+  accumulateWeightedBatch(run, targets, accum, reveal,
+                          [&weight](const FragmentInput* in, const glm::vec4* colors, float* w, int count) {
+                            for (int i = 0; i < count; ++i) w[i] = weight(in[i], colors[i]);
+                          });
 }
 
 // The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal)
