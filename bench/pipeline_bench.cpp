@@ -114,7 +114,8 @@ int main(int argc, char** argv) {
     Image reveal(makeFormat(FormatId::R16F), kW, kH);
     DepthBuffer depth(DepthFormat::D24, kW, kH);
     const Profile exact = exactProfile();
-    const FragmentProgram color{[](const FragmentInput& in, FragmentOutput& o) { o.write(0, in.vec4At(0)); }};
+    // Batch programs (programOf), as the methods draw.
+    const FragmentProgram color = programOf([](const FragmentInput& in, FragmentOutput& o) { o.write(0, in.vec4At(0)); });
 
     if (wanted("opaque_fill")) {
       Framebuffer fb;
@@ -146,14 +147,14 @@ int main(int argc, char** argv) {
       PipelineState st;
       st.blend[0] = BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One);
       st.blend[1] = BlendState::same(BlendEquation::Add, BlendFactor::Zero, BlendFactor::OneMinusSrcColor);
-      const FragmentProgram accumulate{[](const FragmentInput& in, FragmentOutput& o) {
+      const FragmentProgram accumulate = programOf([](const FragmentInput& in, FragmentOutput& o) {
         const glm::vec4 c = in.vec4At(0);
         const float z = in.viewDepth * 50.0f;
         const float a = z / 5, b = z / 200, b3 = b * b * b;
         const float w = c.a * std::clamp(10.0f / (1e-5f + a * a + b3 * b3), 1e-2f, 3e3f);
         o.write(0, glm::vec4(glm::vec3(c) * c.a, c.a) * w);
         o.write(1, glm::vec4(c.a));
-      }};
+      });
       print("accum_wboit", threads, measure(repeat, [&] {
               rgba16f.clear(glm::vec4(0), exact);
               reveal.clear(glm::vec4(1), exact);
@@ -164,7 +165,7 @@ int main(int argc, char** argv) {
       Framebuffer fb;
       fb.color[0] = &rgba8;
       PipelineState st;
-      const FragmentProgram white{[](const FragmentInput&, FragmentOutput& o) { o.write(0, glm::vec4(1)); }};
+      const FragmentProgram white = programOf([](const FragmentInput&, FragmentOutput& o) { o.write(0, glm::vec4(1)); });
       const Result res = measure(repeat, [&] { return r.draw(fb, st, tiny, white); });
       print("small_triangles", threads, res);
       std::printf("%-16s %7d %10.2f ms setup+binning for %llu triangles: %.1f M triangles/s\n", "  setup+binning",
