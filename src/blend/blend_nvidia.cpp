@@ -186,6 +186,23 @@ bool leavesDestination(const Format& f, const BlendState& st, const glm::vec4& s
   return true;
 }
 
+bool readsDestination(BlendFactor f) {
+  return f == BlendFactor::DstColor || f == BlendFactor::OneMinusDstColor || f == BlendFactor::DstAlpha ||
+         f == BlendFactor::OneMinusDstAlpha;
+}
+
+// Whether one half of the blend (the colour channels, or alpha) leaves the destination out: its
+// equation adds or subtracts, its destination factor is ZERO, or SRC_COLOR / SRC_ALPHA of a source
+// that is zero as the fragment wrote it (before any conversion), and its source term needs no
+// destination value (its factor reads none, or the source is zero). `sourceZero`: the half's own
+// source channels are zero; in the alpha half SRC_COLOR is As.
+bool leavesDestinationOut(BlendEquation eq, BlendFactor sf, BlendFactor df, bool sourceZero, bool alphaZero) {
+  if (isMinMax(eq)) return false;
+  const bool destinationTermZero = df == BlendFactor::Zero || (df == BlendFactor::SrcColor && sourceZero) ||
+                                   (df == BlendFactor::SrcAlpha && alphaZero);
+  return destinationTermZero && (sourceZero || !readsDestination(sf));
+}
+
 void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant, const glm::vec4& source, unsigned mask,
                 uint8_t* texel) {
   const bool fp32 = f.encoding() == ChannelEncoding::Float32;
@@ -227,6 +244,20 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
   // SRC_ALPHA_SATURATE as the colour destination factor is zero when As is zero and the alpha
   // destination factor evaluates to zero (ZERO, or SRC_ALPHA / SRC_COLOR of that zero As).
   const bool saturateDestinationZero = s[3] == 0.0f && factor(st.dstAlpha, 3) == 0.0f;
+  // Each half of the blend (colour, alpha) that leaves the destination out decides the zero sign
+  // of the other half's 1 − destination factors (docs/rules.md, `alphastate`).
+  bool rawColourZero = true;
+  for (int c = 0; c < std::min(f.channels, 3); ++c) rawColourZero = rawColourZero && source[c] == 0.0f;
+  const bool rawAlphaZero = source[3] == 0.0f;
+  const bool colourLeavesDestinationOut =
+      leavesDestinationOut(st.equationRgb, st.srcRgb, st.dstRgb, rawColourZero, rawAlphaZero);
+  const bool alphaLeavesDestinationOut =
+      f.hasAlpha() && leavesDestinationOut(st.equationAlpha, st.srcAlpha, st.dstAlpha, rawAlphaZero, rawAlphaZero);
+  auto factorSignDropsOut = [&](BlendFactor sf, bool alpha) {
+    if (sf == BlendFactor::DstColor) return sourceColourZero;
+    if (sf != BlendFactor::OneMinusDstColor && sf != BlendFactor::OneMinusDstAlpha) return false;
+    return alpha ? colourLeavesDestinationOut : alphaLeavesDestinationOut && sourceColourZero;
+  };
   glm::vec4 out = stored;
   for (int c = 0; c < f.channels; ++c) {
     const bool alpha = c == 3;
@@ -249,10 +280,8 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
       bool zeroNegative;
       if (b.value == 0.0f && b.factor != 0.0f)
         zeroNegative = (std::signbit(b.value) != std::signbit(b.factor)) != b.negate;
-      else
-        zeroNegative = (std::signbit(a.value) != (sf == BlendFactor::DstColor && sourceColourZero
-                                                      ? false
-                                                      : std::signbit(a.factor))) != a.negate;
+      else  // the source term's, some factors' signs left out
+        zeroNegative = (std::signbit(a.value) != (factorSignDropsOut(sf, alpha) ? false : std::signbit(a.factor))) != a.negate;
       value = twoProductSum(t, a, b, zeroNegative);
     }
     if (std::isnan(value)) {
