@@ -253,10 +253,19 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
       leavesDestinationOut(st.equationRgb, st.srcRgb, st.dstRgb, rawColourZero, rawAlphaZero);
   const bool alphaLeavesDestinationOut =
       f.hasAlpha() && leavesDestinationOut(st.equationAlpha, st.srcAlpha, st.dstAlpha, rawAlphaZero, rawAlphaZero);
+  // Without an alpha channel the colour half's own destination term decides (`noalpha`): zero by
+  // its factor (ZERO; SRC_COLOR of the converted source colour; SRC_ALPHA or SRC_ALPHA_SATURATE
+  // of a zero As), not by the implied Ad = 1 (ONE_MINUS_DST_ALPHA, SRC_ALPHA_SATURATE with As > 0).
+  const bool colourTermLeavesDestinationOut =
+      !isMinMax(st.equationRgb) &&
+      (st.dstRgb == BlendFactor::Zero || (st.dstRgb == BlendFactor::SrcColor && sourceColourZero) ||
+       ((st.dstRgb == BlendFactor::SrcAlpha || st.dstRgb == BlendFactor::SrcAlphaSaturate) && rawAlphaZero)) &&
+      (sourceColourZero || !readsDestination(st.srcRgb));
   auto factorSignDropsOut = [&](BlendFactor sf, bool alpha) {
     if (sf == BlendFactor::DstColor) return sourceColourZero;
     if (sf != BlendFactor::OneMinusDstColor && sf != BlendFactor::OneMinusDstAlpha) return false;
-    return alpha ? colourLeavesDestinationOut : alphaLeavesDestinationOut && sourceColourZero;
+    if (alpha) return colourLeavesDestinationOut;
+    return (f.hasAlpha() ? alphaLeavesDestinationOut : colourTermLeavesDestinationOut) && sourceColourZero;
   };
   glm::vec4 out = stored;
   for (int c = 0; c < f.channels; ++c) {
