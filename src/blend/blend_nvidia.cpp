@@ -192,14 +192,16 @@ bool readsDestination(BlendFactor f) {
 }
 
 // Whether one half of the blend (the colour channels, or alpha) leaves the destination out: its
-// equation adds or subtracts, its destination factor is ZERO, or SRC_COLOR / SRC_ALPHA of a source
-// that is zero as the fragment wrote it (before any conversion), and its source term needs no
-// destination value (its factor reads none, or the source is zero). `sourceZero`: the half's own
-// source channels are zero; in the alpha half SRC_COLOR is As.
-bool leavesDestinationOut(BlendEquation eq, BlendFactor sf, BlendFactor df, bool sourceZero, bool alphaZero) {
+// equation adds or subtracts, its destination factor is ZERO, or SRC_COLOR / SRC_ALPHA (and, where
+// `saturateCounts`, SRC_ALPHA_SATURATE) of a zero source, and its source term needs no destination
+// value (its factor reads none, or the source is zero). `sourceZero`: the half's own source
+// channels are zero; in the alpha half SRC_COLOR is As.
+bool leavesDestinationOut(BlendEquation eq, BlendFactor sf, BlendFactor df, bool sourceZero, bool alphaZero,
+                          bool saturateCounts = false) {
   if (isMinMax(eq)) return false;
   const bool destinationTermZero = df == BlendFactor::Zero || (df == BlendFactor::SrcColor && sourceZero) ||
-                                   (df == BlendFactor::SrcAlpha && alphaZero);
+                                   ((df == BlendFactor::SrcAlpha ||
+                                     (saturateCounts && df == BlendFactor::SrcAlphaSaturate)) && alphaZero);
   return destinationTermZero && (sourceZero || !readsDestination(sf));
 }
 
@@ -244,28 +246,24 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
   // SRC_ALPHA_SATURATE as the colour destination factor is zero when As is zero and the alpha
   // destination factor evaluates to zero (ZERO, or SRC_ALPHA / SRC_COLOR of that zero As).
   const bool saturateDestinationZero = s[3] == 0.0f && factor(st.dstAlpha, 3) == 0.0f;
-  // Each half of the blend (colour, alpha) that leaves the destination out decides the zero sign
-  // of the other half's 1 − destination factors (docs/rules.md, `alphastate`).
-  bool rawColourZero = true;
-  for (int c = 0; c < std::min(f.channels, 3); ++c) rawColourZero = rawColourZero && source[c] == 0.0f;
-  const bool rawAlphaZero = source[3] == 0.0f;
-  const bool colourLeavesDestinationOut =
-      leavesDestinationOut(st.equationRgb, st.srcRgb, st.dstRgb, rawColourZero, rawAlphaZero);
-  const bool alphaLeavesDestinationOut =
-      f.hasAlpha() && leavesDestinationOut(st.equationAlpha, st.srcAlpha, st.dstAlpha, rawAlphaZero, rawAlphaZero);
-  // Without an alpha channel the colour half's own destination term decides (`noalpha`): zero by
-  // its factor (ZERO; SRC_COLOR of the converted source colour; SRC_ALPHA or SRC_ALPHA_SATURATE
-  // of a zero As), not by the implied Ad = 1 (ONE_MINUS_DST_ALPHA, SRC_ALPHA_SATURATE with As > 0).
-  const bool colourTermLeavesDestinationOut =
-      !isMinMax(st.equationRgb) &&
-      (st.dstRgb == BlendFactor::Zero || (st.dstRgb == BlendFactor::SrcColor && sourceColourZero) ||
-       ((st.dstRgb == BlendFactor::SrcAlpha || st.dstRgb == BlendFactor::SrcAlphaSaturate) && rawAlphaZero)) &&
-      (sourceColourZero || !readsDestination(st.srcRgb));
+  // Which factors' signs stay out of a zero source term (docs/rules.md); asked only when both
+  // terms are exact zeros. For 1 − destination factors, each half of the blend (colour, alpha)
+  // that leaves the destination out decides the other half's (`alphastate`): the source as the
+  // fragment wrote it. Without an alpha channel the colour half's own destination term decides
+  // (`noalpha`): the converted source colour, and SRC_ALPHA_SATURATE with As = 0 counts, while
+  // factors zero only through the implied Ad = 1 do not.
   auto factorSignDropsOut = [&](BlendFactor sf, bool alpha) {
     if (sf == BlendFactor::DstColor) return sourceColourZero;
     if (sf != BlendFactor::OneMinusDstColor && sf != BlendFactor::OneMinusDstAlpha) return false;
-    if (alpha) return colourLeavesDestinationOut;
-    return (f.hasAlpha() ? alphaLeavesDestinationOut : colourTermLeavesDestinationOut) && sourceColourZero;
+    bool rawColourZero = true;
+    for (int c = 0; c < std::min(f.channels, 3); ++c) rawColourZero = rawColourZero && source[c] == 0.0f;
+    const bool rawAlphaZero = source[3] == 0.0f;
+    if (alpha) return leavesDestinationOut(st.equationRgb, st.srcRgb, st.dstRgb, rawColourZero, rawAlphaZero);
+    if (!f.hasAlpha())
+      return leavesDestinationOut(st.equationRgb, st.srcRgb, st.dstRgb, sourceColourZero, rawAlphaZero, true) &&
+             sourceColourZero;
+    return leavesDestinationOut(st.equationAlpha, st.srcAlpha, st.dstAlpha, rawAlphaZero, rawAlphaZero) &&
+           sourceColourZero;
   };
   glm::vec4 out = stored;
   for (int c = 0; c < f.channels; ++c) {
