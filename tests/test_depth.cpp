@@ -1,8 +1,14 @@
 // Depth formats and compare functions, hand-derived.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
 #include "oitref/depth.h"
 #include "oitref/pipeline_state.h"
+#include "pipeline/depth_batch.h"
 #include "support.h"
 
 using namespace oitref;
@@ -86,4 +92,71 @@ TEST_CASE("pipeline state: defaults are GL's initial state and print every field
   other.blend[3].writeMask = 0x7;
   CHECK_FALSE(other == st);
   CHECK_THAT(other.describe(), Catch::Contains("blend[3]: blend off mask=rgb-") && Catch::Contains("depth: test=off func=less"));
+}
+
+// The span path's early test (pipeline/depth_batch.h) runs four lanes at a time with a scalar
+// tail; its results and writes must be the per-fragment rules' (encodeDepth, depthTestPasses),
+// and its encoding an independent closed form's: std::nearbyint of the exact double product
+// (ties to even in the default rounding mode), fp32 rounding for d32f.
+TEST_CASE("depth: the span kernels give the per-fragment test's results and writes", "[depth]") {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-0.25, 1.25);
+  for (DepthFormat format : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F}) {
+    const double maxCode = format == DepthFormat::D16 ? 65535.0 : 16777215.0;
+    for (int f = 0; f < 8; ++f)
+      for (bool write : {false, true}) {
+        const CompareFunc func = CompareFunc(f);
+        DepthBuffer buffer(format, 64, 2), oracle(format, 64, 2);
+        for (int x = 0; x < 64; ++x) {
+          const double stored = unit(rng);
+          buffer.store(x, 1, encodeDepth(stored, format));
+          oracle.store(x, 1, encodeDepth(stored, format));
+        }
+        for (int n : {64, 63, 7, 4, 3, 1}) {
+          double z[64];
+          for (int i = 0; i < n; ++i) {
+            const int kind = int(rng() % 8);
+            // Ties of the UNORM rounding, the range's ends, NaN, a stored value itself, or random.
+            z[i] = kind == 0   ? (double(rng() % 1000) + 0.5) / maxCode
+                   : kind == 1 ? (rng() % 2 ? 0.0 : 1.0)
+                   : kind == 2 ? std::nan("")
+                   : kind == 3 ? decodeDepth(oracle.load(i, 1), format)
+                               : unit(rng);
+            if (format != DepthFormat::D32F && kind < 2) {
+              const double clamped = std::isnan(z[i]) ? 0.0 : std::clamp(z[i], 0.0, 1.0);
+              REQUIRE(encodeDepth(z[i], format) == uint32_t(std::nearbyint(clamped * maxCode)));
+            }
+          }
+          int passed[64];
+          const int count = detail::depthBatchTest(format, func, write)(buffer, 0, 1, z, n, passed);
+          std::vector<int> expected;
+          for (int i = 0; i < n; ++i) {
+            const uint32_t fragment = encodeDepth(z[i], format);
+            if (!depthTestPasses(func, fragment, oracle.load(i, 1), format)) continue;
+            expected.push_back(i);
+            if (write) oracle.store(i, 1, fragment);
+          }
+          REQUIRE(std::vector<int>(passed, passed + count) == expected);
+          for (int x = 0; x < 64; ++x) REQUIRE(buffer.load(x, 1) == oracle.load(x, 1));
+        }
+      }
+  }
+}
+
+TEST_CASE("depth: the encoding over four lanes is the scalar encoding", "[depth]") {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-0.5, 1.5);
+  for (int trial = 0; trial < 20000; ++trial) {
+    lanes::d4 z;
+    for (int l = 0; l < 4; ++l) z[l] = trial % 5 == 0 ? (double(rng() % 100000) + 0.5) / 16777215.0 : unit(rng);
+    const lanes::u4 d16 = encodeDepthAs<DepthFormat::D16>(z), d24 = encodeDepthAs<DepthFormat::D24>(z),
+                    d32 = encodeDepthAs<DepthFormat::D32F>(z);
+    for (int l = 0; l < 4; ++l) {
+      REQUIRE(d16[l] == encodeDepth(z[l], DepthFormat::D16));
+      REQUIRE(d24[l] == encodeDepth(z[l], DepthFormat::D24));
+      REQUIRE(d32[l] == encodeDepth(z[l], DepthFormat::D32F));
+      const double clamped = std::clamp(z[l], 0.0, 1.0);
+      REQUIRE(d24[l] == uint32_t(std::nearbyint(clamped * 16777215.0)));
+    }
+  }
 }

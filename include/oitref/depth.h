@@ -12,6 +12,8 @@
 #include <bit>
 #include <cstdint>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "oitref/unorm.h"
@@ -52,6 +54,12 @@ class DepthBuffer {
     const size_t i = size_t(y) * width_ + x;
     return format_ == DepthFormat::D16 ? d16_[i] : words_[i];
   }
+  // The storage of pixel (x, y): uint16_t for d16, else uint32_t (the depth kernels' rows).
+  void* texel(int x, int y) { return const_cast<void*>(std::as_const(*this).texel(x, y)); }
+  const void* texel(int x, int y) const {
+    const size_t i = size_t(y) * width_ + x;
+    return format_ == DepthFormat::D16 ? static_cast<const void*>(&d16_[i]) : static_cast<const void*>(&words_[i]);
+  }
   void store(int x, int y, uint32_t v) {
     const size_t i = size_t(y) * width_ + x;
     if (format_ == DepthFormat::D16) d16_[i] = uint16_t(v);
@@ -71,30 +79,70 @@ class DepthBuffer {
 };
 
 // Inline: the fragment stage calls these per fragment, with the format and function fixed per draw.
+// The rule once, for a format known when compiled, on one depth (D = double) or four
+// (D = lanes::d4, the span kernels of a draw).
+template <DepthFormat Format, typename D = double>
+inline typename lanes::With<D>::Uint encodeDepthAs(D windowZ) {
+  using L = lanes::With<D>;
+  const D one = lanes::splat<D>(1.0), zero = lanes::splat<D>(0.0);
+  const D z = windowZ > zero ? (windowZ < one ? windowZ : one) : zero;  // the depth range; NaN -> 0
+  if constexpr (Format == DepthFormat::D32F) {
+    return std::bit_cast<typename L::Uint>(lanes::convert<typename L::Float>(z));
+  } else {  // exact product below 2^24, ties to even
+    const D maxCode = lanes::splat<D>(Format == DepthFormat::D16 ? 0xffffu : 0xffffffu);
+    return lanes::convert<typename L::Uint>(roundHalfEven<typename L::Int>(z * maxCode));
+  }
+}
 inline uint32_t encodeDepth(double windowZ, DepthFormat format) {
-  const double z = windowZ > 0.0 ? (windowZ < 1.0 ? windowZ : 1.0) : 0.0;  // the depth range; NaN -> 0
-  if (format == DepthFormat::D32F) return std::bit_cast<uint32_t>(float(z));
-  return roundHalfEven(z * double(format == DepthFormat::D16 ? 0xffffu : 0xffffffu));  // exact product, ties to even
+  switch (format) {
+    case DepthFormat::D16: return encodeDepthAs<DepthFormat::D16>(windowZ);
+    case DepthFormat::D24: return encodeDepthAs<DepthFormat::D24>(windowZ);
+    case DepthFormat::D32F: break;
+  }
+  return encodeDepthAs<DepthFormat::D32F>(windowZ);
+}
+
+// The rule once, for a format and function known when compiled, on one stored value (U =
+// uint32_t: bool) or four (U = lanes::u4: −1/0 lanes).
+template <CompareFunc Func, DepthFormat Format, typename U>
+inline auto depthTestPassesAs(U fragment, U stored) {
+  using Float = std::conditional_t<lanes::isVector<U>, lanes::f4, float>;
+  // Clamped non-negative fp32 values order like their bit patterns, but compare as floats so the
+  // rule reads as written.
+  const auto less = Format == DepthFormat::D32F ? std::bit_cast<Float>(fragment) < std::bit_cast<Float>(stored)
+                                                : fragment < stored;
+  const auto equal = Format == DepthFormat::D32F ? std::bit_cast<Float>(fragment) == std::bit_cast<Float>(stored)
+                                                 : fragment == stored;
+  if constexpr (Func == CompareFunc::Never) return less & lanes::negate(less);
+  else if constexpr (Func == CompareFunc::Less) return less;
+  else if constexpr (Func == CompareFunc::Equal) return equal;
+  else if constexpr (Func == CompareFunc::LEqual) return less | equal;
+  else if constexpr (Func == CompareFunc::Greater) return lanes::negate(less) & lanes::negate(equal);
+  else if constexpr (Func == CompareFunc::NotEqual) return lanes::negate(equal);
+  else if constexpr (Func == CompareFunc::GEqual) return lanes::negate(less);
+  else return less | lanes::negate(less);  // Always
 }
 
 inline bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format) {
-  // Clamped non-negative fp32 values order like their bit patterns, but compare as floats so the
-  // rule reads as written.
-  const bool isFloat = format == DepthFormat::D32F;
-  const float ff = std::bit_cast<float>(fragment), fs = std::bit_cast<float>(stored);
-  const bool less = isFloat ? ff < fs : fragment < stored;
-  const bool equal = isFloat ? ff == fs : fragment == stored;
+  auto as = [&]<CompareFunc Func>() -> bool {
+    switch (format) {
+      case DepthFormat::D16: return depthTestPassesAs<Func, DepthFormat::D16>(fragment, stored);
+      case DepthFormat::D24: return depthTestPassesAs<Func, DepthFormat::D24>(fragment, stored);
+      case DepthFormat::D32F: break;
+    }
+    return depthTestPassesAs<Func, DepthFormat::D32F>(fragment, stored);
+  };
   switch (func) {
-    case CompareFunc::Never: return false;
-    case CompareFunc::Less: return less;
-    case CompareFunc::Equal: return equal;
-    case CompareFunc::LEqual: return less || equal;
-    case CompareFunc::Greater: return !less && !equal;
-    case CompareFunc::NotEqual: return !equal;
-    case CompareFunc::GEqual: return !less;
-    case CompareFunc::Always: return true;
+    case CompareFunc::Never: return as.template operator()<CompareFunc::Never>();
+    case CompareFunc::Less: return as.template operator()<CompareFunc::Less>();
+    case CompareFunc::Equal: return as.template operator()<CompareFunc::Equal>();
+    case CompareFunc::LEqual: return as.template operator()<CompareFunc::LEqual>();
+    case CompareFunc::Greater: return as.template operator()<CompareFunc::Greater>();
+    case CompareFunc::NotEqual: return as.template operator()<CompareFunc::NotEqual>();
+    case CompareFunc::GEqual: return as.template operator()<CompareFunc::GEqual>();
+    case CompareFunc::Always: break;
   }
-  return false;
+  return as.template operator()<CompareFunc::Always>();
 }
 
 }  // namespace oitref

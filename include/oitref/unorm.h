@@ -18,6 +18,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "oitref/lanes.h"
+
 namespace oitref {
 
 enum class UnormRounding : uint8_t { ExactNearestEven, Fp32Product, NvidiaFixed };
@@ -25,16 +27,18 @@ enum class UnormRounding : uint8_t { ExactNearestEven, Fp32Product, NvidiaFixed 
 // Clamp to [0,1] with NaN -> 0: the clamp GL applies to fixed-point blending inputs and outputs.
 inline float clampUnit(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; }
 
-// Round a non-negative double below 2^32 to the nearest integer, ties to even, whatever the
-// floating-point environment's rounding mode (truncation and the exact difference do not depend
-// on it).
-inline uint32_t roundHalfEven(double p) {
-  const uint32_t q = uint32_t(p);
-  const double frac = p - double(q);  // exact
+// Round a non-negative double below 2^32 (below 2^31 for Int = int32_t) to the nearest integer,
+// ties to even, whatever the floating-point environment's rounding mode (truncation and the exact
+// difference do not depend on it). Also over four lanes (D = lanes::d4, Int = lanes::i4): the
+// span kernels' depth encoding.
+template <typename Int = uint32_t, typename D = double>
+inline Int roundHalfEven(D p) {
+  const Int q = lanes::convert<Int>(p);
+  const D frac = p - lanes::convert<D>(q);  // exact
   // Without branches: the fraction is random in a depth or colour stream, so a branch on it
   // mispredicts half the time.
-  const uint32_t up = uint32_t(frac > 0.5) | (uint32_t(frac == 0.5) & q);
-  return q + (up & 1u);
+  const Int up = lanes::convert<Int>(frac > lanes::splat<D>(0.5)) | (lanes::convert<Int>(frac == lanes::splat<D>(0.5)) & q);
+  return q + (up & 1);
 }
 
 inline uint32_t encodeUnorm(float value, int bits, UnormRounding rounding = UnormRounding::ExactNearestEven) {

@@ -7,8 +7,10 @@ namespace oitref::detail {
 FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program,
                              const Geometry* geometry, const PixelRect& viewport)
     : fb_(fb), state_(state), program_(program), geometry_(geometry) {
+  height_ = fb.height();
   earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
   earlyDepthTest_ = earlyTests_ && fb.depth != nullptr && state.depth.testEnabled;
+  if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb.depth->format(), state.depth.func, state.depth.writeMask);
   blenders_.reserve(kMaxColorTargets);
   bool smallFloatBound = false;  // llvmpipe keeps denormals for the whole draw then
   for (int t = 0; t < kMaxColorTargets; ++t)
@@ -60,7 +62,17 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
 void FragmentStage::interpolateAttributes(const double* b, float* out) const {
   const int n = int(attributes_.size());
   const double* va = vertexAttributes_.data();
-  for (int k = 0; k < n; ++k) out[k] = float(b[0] * va[k] + b[1] * va[n + k] + b[2] * va[2 * n + k]);
+  for (int k = 0; k < n; ++k) out[k] = interpolateAttribute(b[0], b[1], b[2], va[k], va[n + k], va[2 * n + k]);
+}
+
+void FragmentStage::interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count,
+                                               float* out) const {
+  const int n = int(attributes_.size());
+  const double* va = vertexAttributes_.data();
+  for (int k = 0; k < n; ++k) {
+    const double a0 = va[k], a1 = va[n + k], a2 = va[2 * n + k];
+    for (int j = 0; j < count; ++j) out[j * n + k] = interpolateAttribute(b0[j], b1[j], b2[j], a0, a1, a2);
+  }
 }
 
 // Filled field by field in place: built as a temporary and copied, the copy's 16-byte loads of
@@ -90,6 +102,7 @@ void FragmentStage::fragment(int x, int y) {
 
 void FragmentStage::span(int y, int x0, int x1) {
   if (degenerate_) return;
+  prefetchDepthRow(y + 2, x0, x1);
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
   for (int start = x0; start < x1; start += kBatch) {
     const int n = std::min(kBatch, x1 - start);
@@ -97,48 +110,55 @@ void FragmentStage::span(int y, int x0, int x1) {
     for (int i = 0; i < n; ++i) interpolate(start + i, yn, w[i], b0[i], b1[i], b2[i], z[i]);
     counters_.rasterized += uint64_t(n);
     // Early depth tests for the whole batch first: where most fragments are hidden, they end here.
-    bool passed[kBatch];
+    int alive[kBatch];
+    int count = n;
     if (earlyDepthTest_) {
-      DepthBuffer& depth = *fb_.depth;
-      const DepthFormat format = depth.format();
-      const CompareFunc func = state_.depth.func;
-      for (int i = 0; i < n; ++i) {
-        const uint32_t d = encodeDepth(z[i], format);
-        passed[i] = depthTestPasses(func, d, depth.load(start + i, y), format);
-        if (passed[i] && state_.depth.writeMask) depth.store(start + i, y, d);
-        counters_.depthFailed += !passed[i];
-      }
+      count = depthBatchTest_(*fb_.depth, start, y, z, n, alive);
+      counters_.depthFailed += uint64_t(n - count);
+    } else {
+      for (int i = 0; i < n; ++i) alive[i] = i;
     }
     if (program_.batch) {
-      const int attributeCount = int(attributes_.size());
-      int count = 0;
-      for (int i = 0; i < n; ++i) {
-        if (earlyDepthTest_ && !passed[i]) continue;
-        FragmentInput& in = inputs_[count];
-        fillInput(in, start + i, y, z[i], w[i]);
-        float* attributes = batchAttributes_.data() + size_t(count * attributeCount);
-        const double b[3] = {b0[i], b1[i], b2[i]};
-        interpolateAttributes(b, attributes);
-        in.attributes = attributes;
-        batchZ_[count++] = z[i];
+      // The survivors' barycentrics side by side, so that each attribute is interpolated over all
+      // of them in one loop (interpolateAttributes' expression per lane).
+      double c0[kBatch], c1[kBatch], c2[kBatch];
+      for (int j = 0; j < count; ++j) {
+        const int i = alive[j];
+        fillInput(inputs_[j], start + i, y, z[i], w[i]);
+        inputs_[j].attributes = batchAttributes_.data() + size_t(j) * attributes_.size();
+        batchZ_[j] = z[i];
+        c0[j] = b0[i], c1[j] = b1[i], c2[j] = b2[i];
       }
+      interpolateAttributesBatch(c0, c1, c2, count, batchAttributes_.data());
       shadeAndBlendBatch(y, count);
       continue;
     }
-    int alive = 0;
-    for (int i = 0; i < n; ++i) {
-      if (earlyDepthTest_ && !passed[i]) continue;
+    int blended = 0;
+    for (int j = 0; j < count; ++j) {
+      const int i = alive[j];
       FragmentInput in;
       fillInput(in, start + i, y, z[i], w[i]);
       const double b[3] = {b0[i], b1[i], b2[i]};
-      if (shade(in, z[i], b, outputs_[size_t(alive)], earlyDepthTest_)) {
-        batchX_[alive] = start + i;
-        batchOutput_[alive] = alive;
-        ++alive;
+      if (shade(in, z[i], b, outputs_[size_t(blended)], earlyDepthTest_)) {
+        batchX_[blended] = start + i;
+        batchOutput_[blended] = blended;
+        ++blended;
       }
     }
-    blendBatch(y, alive);
+    blendBatch(y, blended);
   }
+}
+
+// The depth row of a span two rows ahead, asked for now: a triangle's next spans in the tile
+// are there, and the rows of a 64-pixel tile are a page apart, too far for the hardware's
+// prefetcher to follow in time (the first load of a span's depths waited on memory). Prefetching
+// the colour rows as well measured slower (veils 1080p opaque pass 40 → 44 ms). Only when the
+// data arrives changes.
+void FragmentStage::prefetchDepthRow(int y, int x0, int x1) const {
+  if (!fb_.depth || !state_.depth.testEnabled || y >= height_) return;
+  const char* row = static_cast<const char*>(fb_.depth->texel(x0, y));
+  const int bytes = (x1 - x0) * fb_.depth->bytesPerTexel();
+  for (int b = 0; b < bytes + 63; b += 64) __builtin_prefetch(row + b);
 }
 
 void FragmentStage::shadeAndBlendBatch(int y, int count) {

@@ -18,6 +18,7 @@
 
 #include "blend/target_blender.h"
 #include "oitref/renderer.h"
+#include "pipeline/depth_batch.h"
 #include "pipeline/setup.h"
 
 namespace oitref::detail {
@@ -60,7 +61,13 @@ class FragmentStage {
   // The batch path: inputs_[0, count) of row y with window depths batchZ_, early-tested already,
   // shaded by one program_.batch call, then afterShader and blending.
   void shadeAndBlendBatch(int y, int count);
+  // a = Σ b_i a_i, rounded once to fp32 (the header comment), for one fragment's attributes, or
+  // for `count` fragments' (out[j·attributeCount + k]) one attribute at a time.
+  static float interpolateAttribute(double b0, double b1, double b2, double a0, double a1, double a2) {
+    return float(b0 * a0 + b1 * a1 + b2 * a2);
+  }
   void interpolateAttributes(const double* b, float* out) const;
+  void interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count, float* out) const;
   void fillInput(FragmentInput& in, int x, int y, double z, double w) const;
   // Pixel x of the row at NDC y `yn`: the perspective-correct barycentrics b, the view depth w and
   // the window z, the expressions of the header comment, one rounding each in double. `span`
@@ -78,6 +85,7 @@ class FragmentStage {
   // Blends the batch's surviving fragments (outputs_[batchOutput_[i]] at x = batchX_[i] on row y),
   // target by target.
   void blendBatch(int y, int count);
+  void prefetchDepthRow(int y, int x0, int x1) const;
 
   static constexpr int kBatch = 64;
 
@@ -90,8 +98,10 @@ class FragmentStage {
   double clipZ_[3] = {};
   bool degenerate_ = false;
   double ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_;
+  int height_;  // the framebuffer's
   bool earlyTests_;
   bool earlyDepthTest_;  // early tests, and a depth test to run
+  DepthBatchTest depthBatchTest_ = nullptr;  // span's early test, for the draw's depth state
   unsigned boundTargets_ = 0;
   std::vector<TargetBlender> blenders_;  // per bound target, in target order
   std::vector<double> vertexAttributes_;  // 3 × attributeCount, of the original vertices

@@ -1,0 +1,20 @@
+// Stage 5, the early depth test of a span: a batch of consecutive pixels of one row, tested and
+// written in one call whose format, compare function and write mask were chosen once per draw
+// (llvmpipe decides its depth code per state, too). The arithmetic is encodeDepthAs and
+// depthTestPasses of oitref/depth.h, the rules the per-fragment test (FragmentStage::earlyTest,
+// the oracle) uses; here the encoding runs over all lanes first, where the compiler can use
+// vector instructions (the same IEEE operations per lane).
+#pragma once
+
+#include "oitref/depth.h"
+
+namespace oitref::detail {
+
+// Tests the window depths z[0, n) of pixels (x + i, y) against `depth`, writes those that pass
+// when the draw writes depth, stores the indices i that passed in `passed` (ascending) and
+// returns their count.
+using DepthBatchTest = int (*)(DepthBuffer& depth, int x, int y, const double* z, int n, int* passed);
+
+DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMask);
+
+}  // namespace oitref::detail
