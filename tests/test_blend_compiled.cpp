@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "blend/method_blend_states.h"
 #include "blend/target_blender.h"
@@ -65,4 +66,56 @@ TEST_CASE("blend: kernels compiled for the methods' blend states give the genera
           }
   }
   CHECK(compared == 12 * 4 * int(std::size(detail::states::kMethodBlendStates)) * 2 * 400);
+}
+
+// TargetBlender::blendBatch runs the llvmpipe float model eight lanes at a time (two rgba, four
+// rg or eight r pixels per call; AVX2) with the pixels left over one at a time: every batch size,
+// the methods' states (compiled kernels) and random states (the general eight-lane function),
+// against the per-fragment general kernel.
+TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "[blend]") {
+  test::BitStream rng(77);
+  std::vector<BlendState> states(std::begin(detail::states::kMethodBlendStates), std::end(detail::states::kMethodBlendStates));
+  for (int i = 0; i < 40; ++i)
+    states.push_back(BlendState::separate(BlendEquation(rng.next() % 5), BlendEquation(rng.next() % 5),
+                                          BlendFactor(rng.next() % 15), BlendFactor(rng.next() % 15),
+                                          BlendFactor(rng.next() % 15), BlendFactor(rng.next() % 15)));
+  int compared = 0;
+  for (const char* name : {"rgba16f", "rg16f", "r16f", "rgba32f", "rg32f", "r32f"}) {
+    const Format f = parseFormat(name);
+    const int bytes = f.bytesPerTexel();
+    for (const Profile& p : {llvmpipeProfile(), parseProfile("llvmpipe,fma=off")})
+      for (const BlendState& state : states)
+        for (bool smallFloatBound : {false, true}) {
+          glm::vec4 constant;
+          for (int k = 0; k < 4; ++k) constant[k] = interesting(rng);
+          const detail::TargetBlender batch(f, state, constant, p, true, smallFloatBound);
+          const detail::TargetBlender single(f, state, constant, p, false, smallFloatBound);
+          for (int n : {1, 2, 3, 7, 8, 9, 17}) {
+            std::vector<glm::vec4> sources(static_cast<size_t>(n));
+            std::vector<uint8_t> batched(size_t(n * bytes)), expected;
+            for (glm::vec4& s : sources)
+              for (int k = 0; k < 4; ++k) s[k] = interesting(rng);
+            for (int i = 0; i < n * bytes / 4; ++i) {  // fp32 channels, or two fp16 ones
+              const float v = interesting(rng);
+              std::memcpy(&batched[size_t(4 * i)], &v, 4);
+            }
+            expected = batched;
+            std::vector<const glm::vec4*> sourcePointers;
+            std::vector<uint8_t*> texels;
+            for (int i = 0; i < n; ++i) {
+              sourcePointers.push_back(&sources[size_t(i)]);
+              texels.push_back(&batched[size_t(i * bytes)]);
+              single.blend(sources[size_t(i)], &expected[size_t(i * bytes)]);
+            }
+            batch.blendBatch(sourcePointers.data(), texels.data(), n);
+            for (int i = 0; i < n; ++i)
+              if (std::memcmp(&batched[size_t(i * bytes)], &expected[size_t(i * bytes)], size_t(bytes)) != 0)
+                FAIL(name << " " << p.describe() << " " << state.describe() << " n " << n << " pixel " << i << ": batch "
+                          << texelBitsToString(f, &batched[size_t(i * bytes)]) << ", per fragment "
+                          << texelBitsToString(f, &expected[size_t(i * bytes)]));
+            ++compared;
+          }
+        }
+  }
+  CHECK(compared == 6 * 2 * int(states.size()) * 2 * 7);
 }

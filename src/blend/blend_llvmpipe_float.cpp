@@ -21,15 +21,38 @@ namespace {
 // compiled folds away (as llvmpipe's JIT folds it).
 #define LP_INLINE [[gnu::always_inline]] inline
 
-// A vector of four lanes that may be known, at JIT time, to be all 0 or all 1.
+// Lanes: four (one pixel's channels, as `run` is called per fragment) or eight (LlvmpipeLanes8:
+// the channels of two to eight pixels side by side, the batch path). Every operation below is
+// per lane, and what depends on a pixel (its source and destination alpha) arrives as lanes, so
+// the bits of a lane do not depend on how many lanes travel together.
+template <int N>
+struct LaneTypes {
+  typedef float F __attribute__((vector_size(4 * N)));
+  typedef int32_t I __attribute__((vector_size(4 * N)));
+};
+template <typename V>
+constexpr int kLanes = int(sizeof(V) / sizeof(float));
+template <typename V>
+using IntLanes = typename LaneTypes<kLanes<V>>::I;
+template <typename V>
+LP_INLINE V splatLanes(float x) {
+  return V{} + x;
+}
+template <typename V>
+LP_INLINE V selectLanes(IntLanes<V> mask, V a, V b) {
+  return mask ? a : b;
+}
+
+// A vector of lanes that may be known, at JIT time, to be all 0 or all 1.
 // The lanes live in a vector register: built and read in memory, a 16-byte load after narrower
 // stores would wait for them (store forwarding).
+template <typename V>
 struct Vec {
   enum Kind { Value, Zero, One } kind = Value;
-  v4f v{};
-  static Vec zero() { return {Zero, splat(0.0f)}; }
-  static Vec one() { return {One, splat(1.0f)}; }
-  static Vec of(v4f x) { return {Value, x}; }
+  V v{};
+  static Vec zero() { return {Zero, splatLanes<V>(0.0f)}; }
+  static Vec one() { return {One, splatLanes<V>(1.0f)}; }
+  static Vec of(V x) { return {Value, x}; }
 };
 
 // x·y + z rounded once, per lane (IEEE fusedMultiplyAdd): the CPU's FMA instruction where it has
@@ -40,13 +63,26 @@ struct Vec {
 [[gnu::target("fma")]] v4f fusedMultiplyAdd4Hardware(v4f x, v4f y, v4f z) {
   return (v4f)_mm_fmadd_ps((__m128)x, (__m128)y, (__m128)z);
 }
+[[gnu::target("fma,avx")]] LaneTypes<8>::F fusedMultiplyAdd8Hardware(LaneTypes<8>::F x, LaneTypes<8>::F y,
+                                                                    LaneTypes<8>::F z) {
+  return (LaneTypes<8>::F)_mm256_fmadd_ps((__m256)x, (__m256)y, (__m256)z);
+}
+bool hardwareFma() {
+  static const bool supported = __builtin_cpu_supports("fma");
+  return supported;
+}
 #endif
-v4f fusedMultiplyAdd4(v4f x, v4f y, v4f z) {
+template <typename V>
+V fusedMultiplyAdd(V x, V y, V z) {
 #if defined(__x86_64__)
-  static const bool hardware = __builtin_cpu_supports("fma");
-  if (hardware) return fusedMultiplyAdd4Hardware(x, y, z);
+  if (hardwareFma()) {
+    if constexpr (kLanes<V> == 4) return fusedMultiplyAdd4Hardware(x, y, z);
+    else return fusedMultiplyAdd8Hardware(x, y, z);
+  }
 #endif
-  return v4f{std::fma(x[0], y[0], z[0]), std::fma(x[1], y[1], z[1]), std::fma(x[2], y[2], z[2]), std::fma(x[3], y[3], z[3])};
+  V r;
+  for (int i = 0; i < kLanes<V>; ++i) r[i] = std::fma(x[i], y[i], z[i]);
+  return r;
 }
 
 // llvmpipe's generated code runs with the x86 MXCSR's DAZ and FTZ bits set (unless a small-float
@@ -54,59 +90,69 @@ v4f fusedMultiplyAdd4(v4f x, v4f y, v4f z) {
 // after rounding (x86 detects tininess after rounding) is written as a zero of its sign.
 // Operations folded away at JIT time (x·1, x + 0, ...) execute nothing, so denormals pass
 // through them unchanged. One Arith evaluates the lp_build_* helpers with their constant folds.
+template <typename V>
 class Arith {
  public:
+  using VecT = Vec<V>;
+  using VI = IntLanes<V>;
+  static constexpr int N = kLanes<V>;
   Arith(bool flush, bool fma) : flush_(flush), fma_(fma) {}
 
-  LP_INLINE Vec add(const Vec& a, const Vec& b) const {
-    if (a.kind == Vec::Zero) return b;
-    if (b.kind == Vec::Zero) return a;
+  LP_INLINE VecT add(const VecT& a, const VecT& b) const {
+    if (a.kind == VecT::Zero) return b;
+    if (b.kind == VecT::Zero) return a;
     return lanes(a, b, [](auto x, auto y, auto k) { return x * k + y * k; });
   }
-  LP_INLINE Vec sub(const Vec& a, const Vec& b) const {
-    if (b.kind == Vec::Zero) return a;
+  LP_INLINE VecT sub(const VecT& a, const VecT& b) const {
+    if (b.kind == VecT::Zero) return a;
     return lanes(a, b, [](auto x, auto y, auto k) { return x * k - y * k; });
   }
-  LP_INLINE Vec mul(const Vec& a, const Vec& b) const {
-    if (a.kind == Vec::Zero || b.kind == Vec::Zero) return Vec::zero();
-    if (a.kind == Vec::One) return b;
-    if (b.kind == Vec::One) return a;
+  LP_INLINE VecT mul(const VecT& a, const VecT& b) const {
+    if (a.kind == VecT::Zero || b.kind == VecT::Zero) return VecT::zero();
+    if (a.kind == VecT::One) return b;
+    if (b.kind == VecT::One) return a;
     return lanes(a, b, [](auto x, auto y, auto k) { return (x * k) * y; });
   }
-  LP_INLINE Vec comp(const Vec& a) const {  // 1 − a
-    if (a.kind == Vec::One) return Vec::zero();
-    if (a.kind == Vec::Zero) return Vec::one();
-    return sub(Vec::of(splat(1.0f)), a);
+  LP_INLINE VecT comp(const VecT& a) const {  // 1 − a
+    if (a.kind == VecT::One) return VecT::zero();
+    if (a.kind == VecT::Zero) return VecT::one();
+    return sub(VecT::of(splatLanes<V>(1.0f)), a);
   }
   // x86 minps / maxps: a < b ? a : b (else b, NaN included), on the DAZ-read operands.
-  LP_INLINE v4f minps(v4f a, v4f b) const {
-    const v4f x = daz4(a), y = daz4(b);
-    return select(x < y, x, y);
+  LP_INLINE V minps(V a, V b) const {
+    const V x = daz(a), y = daz(b);
+    return selectLanes<V>(x < y, x, y);
   }
-  LP_INLINE v4f maxps(v4f a, v4f b) const {
-    const v4f x = daz4(a), y = daz4(b);
-    return select(x > y, x, y);
+  LP_INLINE V maxps(V a, V b) const {
+    const V x = daz(a), y = daz(b);
+    return selectLanes<V>(x > y, x, y);
   }
   // lp_build_mad: llvm.fmuladd, one rounding on CPUs with FMA.
-  LP_INLINE Vec mad(const Vec& a, const Vec& b, const Vec& c) const {
+  LP_INLINE VecT mad(const VecT& a, const VecT& b, const VecT& c) const {
     if (!fma_) return add(mul(a, b), c);
-    const v4f x = daz4(a.v), y = daz4(b.v), z = daz4(c.v);
-    v4f r = fusedMultiplyAdd4(x, y, z);
+    const V x = daz(a.v), y = daz(b.v), z = daz(c.v);
+    V r = fusedMultiplyAdd(x, y, z);
     // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
-    const v4i magnitude = (v4i)r & 0x7fffffff;
-    const v4i special = (magnitude > 0x7f800000) | (flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : v4i{});
-    if (special[0] | special[1] | special[2] | special[3])
-      for (int i = 0; i < 4; ++i) {
+    const VI magnitude = (VI)r & 0x7fffffff;
+    const VI special = (magnitude > 0x7f800000) | (flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : VI{});
+    if (any(special))
+      for (int i = 0; i < N; ++i) {
         if (r[i] != r[i]) r[i] = x86Nan(x[i], y[i], x86Nan(z[i], z[i], std::bit_cast<float>(0xffc00000u)));
         const float m = std::fabs(r[i]);
         if (flush_ && m != 0.0f && m <= 0x1p-126f)  // may be tiny: the scalar rule
           r[i] = ftz([&](float k) { return std::fma(x[i] * k, y[i], z[i] * k); });
       }
-    return Vec::of(r);
+    return VecT::of(r);
   }
-  LP_INLINE Vec lerp(const Vec& x, const Vec& v0, const Vec& v1) const { return mad(x, sub(v1, v0), v0); }
+  LP_INLINE VecT lerp(const VecT& x, const VecT& v0, const VecT& v1) const { return mad(x, sub(v1, v0), v0); }
 
  private:
+  LP_INLINE static bool any(VI m) {
+    VI folded = m;
+    int any = 0;
+    for (int i = 0; i < N; ++i) any |= folded[i];
+    return any != 0;
+  }
   // `op(k)` computes the operation with its operands scaled by k; k = 2^64 lifts a tiny result
   // into the normal range, where fp32 rounding is the unbounded-exponent rounding.
   template <typename Op>
@@ -118,23 +164,22 @@ class Arith {
     return r;  // exactly ±2^-126 and not tiny before the format's denormal rounding
   }
 
-  // Four lanes at once; only lanes whose result may be tiny (|r| ≤ 2^-126, rare) take the
+  // All lanes at once; only lanes whose result may be tiny (|r| ≤ 2^-126, rare) take the
   // scalar rule above, so the bits are those of ftz per lane.
   template <typename Op>
-  LP_INLINE Vec lanes(const Vec& a, const Vec& b, Op op) const {
-    const v4f x = daz4(a.v), y = daz4(b.v);
-    v4f r = op(x, y, splat(1.0f));
+  LP_INLINE VecT lanes(const VecT& a, const VecT& b, Op op) const {
+    const V x = daz(a.v), y = daz(b.v);
+    V r = op(x, y, splatLanes<V>(1.0f));
     // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
-    const v4i magnitude = (v4i)r & 0x7fffffff;
-    const v4i nan = magnitude > 0x7f800000;
-    const v4i tiny = flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : v4i{};
-    const v4i special = nan | tiny;
-    if (special[0] | special[1] | special[2] | special[3])
-      for (int i = 0; i < 4; ++i) {
+    const VI magnitude = (VI)r & 0x7fffffff;
+    const VI nan = magnitude > 0x7f800000;
+    const VI tiny = flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : VI{};
+    if (any(nan | tiny))
+      for (int i = 0; i < N; ++i) {
         if (nan[i]) r[i] = x86Nan(x[i], y[i], r[i]);
         if (tiny[i]) r[i] = ftz([&](float k) { return op(x[i], y[i], k); });
       }
-    return Vec::of(r);
+    return VecT::of(r);
   }
   // x86's NaN propagation, stated so that it does not depend on how the compiler orders the
   // operands of a commutative operation: a NaN result is the first operand's NaN, else the
@@ -149,83 +194,90 @@ class Arith {
     };
     return x != x ? quiet(x) : y != y ? quiet(y) : r;
   }
-  // daz on four lanes: a denormal (exponent bits 0) keeps only its sign.
-  LP_INLINE v4f daz4(v4f v) const {
+  // daz on every lane: a denormal (exponent bits 0) keeps only its sign.
+  LP_INLINE V daz(V v) const {
     if (!flush_) return v;
-    const v4i bits = (v4i)v;
-    return (v4f)(((bits & 0x7f800000) == 0) ? (bits & int32_t(0x80000000u)) : bits);
+    const VI bits = (VI)v;
+    return (V)(((bits & 0x7f800000) == 0) ? (bits & int32_t(0x80000000u)) : bits);
   }
 
   bool flush_, fma_;
 };
 
+// What a blend reads, lane by lane: srcAlpha, dstAlpha and constAlpha hold each lane's pixel's
+// alpha (the broadcasts of llvmpipe's AAAA swizzles); `alphaLanes` marks the lanes that are an
+// RGBA pixel's alpha channel.
+template <typename V>
 struct Inputs {
-  Vec src, dst, constant;
-  float srcAlpha, constAlpha;
+  Vec<V> src, dst, constant;
+  V srcAlpha, dstAlpha, constAlpha;
+  IntLanes<V> alphaLanes;
   bool hasDstAlpha;
 };
 
 // lp_build_blend_factor_unswizzled, then the AAAA broadcast of alpha factors, for one lane
 // group: `alphaLane` selects the alpha channel's rules (SRC_ALPHA_SATURATE is 1 there).
-LP_INLINE Vec unswizzled(const Arith& A, unsigned f, bool alphaLane, const Inputs& in) {
-  const v4f sa = splat(in.srcAlpha), ca = splat(in.constAlpha);
+template <typename V>
+LP_INLINE Vec<V> unswizzled(const Arith<V>& A, unsigned f, bool alphaLane, const Inputs<V>& in) {
+  using VecT = Vec<V>;
   switch (f) {
-    case kPipeZero: return Vec::zero();
-    case kPipeOne: return Vec::one();
+    case kPipeZero: return VecT::zero();
+    case kPipeOne: return VecT::one();
     case kPipeSrcColor: return in.src;
-    case kPipeSrcAlpha: return Vec::of(sa);
+    case kPipeSrcAlpha: return VecT::of(in.srcAlpha);
     case kPipeDstColor: return in.dst;
-    case kPipeDstAlpha: return Vec::of(splat(in.dst.v[3]));
+    case kPipeDstAlpha: return VecT::of(in.dstAlpha);
     case kPipeSrcAlphaSaturate:
-      if (alphaLane) return Vec::one();
-      return Vec::of(A.minps(sa, splat(in.hasDstAlpha ? 1.0f - in.dst.v[3] : 0.0f)));
+      if (alphaLane) return VecT::one();
+      return VecT::of(A.minps(in.srcAlpha, in.hasDstAlpha ? splatLanes<V>(1.0f) - in.dstAlpha : splatLanes<V>(0.0f)));
     case kPipeConstColor: return in.constant;
-    case kPipeConstAlpha: return Vec::of(ca);
+    case kPipeConstAlpha: return VecT::of(in.constAlpha);
     case kPipeInvSrcColor: return A.comp(in.src);
-    case kPipeInvSrcAlpha: return A.comp(Vec::of(sa));
+    case kPipeInvSrcAlpha: return A.comp(VecT::of(in.srcAlpha));
     case kPipeInvDstColor: return A.comp(in.dst);
-    case kPipeInvDstAlpha: return A.comp(Vec::of(splat(in.dst.v[3])));
+    case kPipeInvDstAlpha: return A.comp(VecT::of(in.dstAlpha));
     case kPipeInvConstColor: return A.comp(in.constant);
-    case kPipeInvConstAlpha: return A.comp(Vec::of(ca));
-    default: return Vec::zero();
+    case kPipeInvConstAlpha: return A.comp(VecT::of(in.constAlpha));
+    default: return VecT::zero();
   }
 }
 
 // RGB lanes from the RGB factor, the alpha lane from the alpha factor; a constant only when both are.
-LP_INLINE Vec factorVector(const Arith& A, unsigned rgb, unsigned alpha, const Inputs& in) {
-  const Vec r = unswizzled(A, rgb, false, in);
+template <typename V>
+LP_INLINE Vec<V> factorVector(const Arith<V>& A, unsigned rgb, unsigned alpha, const Inputs<V>& in) {
+  const Vec<V> r = unswizzled(A, rgb, false, in);
   if (!in.hasDstAlpha) return r;
-  const Vec a = unswizzled(A, alpha, true, in);
-  if (r.kind != Vec::Value && r.kind == a.kind) return r;
-  Vec mixed = Vec::of(r.v);
-  mixed.v[3] = a.v[3];
-  return mixed;
+  const Vec<V> a = unswizzled(A, alpha, true, in);
+  if (r.kind != Vec<V>::Value && r.kind == a.kind) return r;
+  return Vec<V>::of(selectLanes<V>(in.alphaLanes, a.v, r.v));
 }
 
-LP_INLINE Vec blendFunc(const Arith& A, BlendEquation eq, const Vec& a, const Vec& b) {
+template <typename V>
+LP_INLINE Vec<V> blendFunc(const Arith<V>& A, BlendEquation eq, const Vec<V>& a, const Vec<V>& b) {
   switch (eq) {
     case BlendEquation::Add: return A.add(a, b);
     case BlendEquation::Subtract: return A.sub(a, b);
     case BlendEquation::ReverseSubtract: return A.sub(b, a);
-    case BlendEquation::Min: return Vec::of(A.minps(a.v, b.v));
-    case BlendEquation::Max: return Vec::of(A.maxps(a.v, b.v));
+    case BlendEquation::Min: return Vec<V>::of(A.minps(a.v, b.v));
+    case BlendEquation::Max: return Vec<V>::of(A.maxps(a.v, b.v));
   }
   return a;
 }
 
 // lp_build_blend for floating-point vectors.
-LP_INLINE Vec lpBlend(const Arith& A, BlendEquation eq, unsigned fs, unsigned fd, const Vec& s, const Vec& d, const Vec& sf,
-            const Vec& df, bool channelIndependent) {
+template <typename V>
+LP_INLINE Vec<V> lpBlend(const Arith<V>& A, BlendEquation eq, unsigned fs, unsigned fd, const Vec<V>& s,
+                         const Vec<V>& d, const Vec<V>& sf, const Vec<V>& df, bool channelIndependent) {
   if (channelIndependent) {
     if (pipeComplementary(fs, fd)) {
       const bool srcPlain = fs < fd;
       if (eq == BlendEquation::Add) return srcPlain ? A.lerp(sf, d, s) : A.lerp(df, s, d);
       if (eq == BlendEquation::Subtract) {
-        const Vec sum = A.add(s, d);
+        const Vec<V> sum = A.add(s, d);
         return srcPlain ? A.sub(A.mul(sum, sf), d) : A.sub(s, A.mul(sum, df));
       }
       if (eq == BlendEquation::ReverseSubtract) {
-        const Vec sum = A.add(s, d);
+        const Vec<V> sum = A.add(s, d);
         return srcPlain ? A.sub(d, A.mul(sum, sf)) : A.sub(A.mul(sum, df), s);
       }
     }
@@ -235,40 +287,70 @@ LP_INLINE Vec lpBlend(const Arith& A, BlendEquation eq, unsigned fs, unsigned fd
   return blendFunc(A, eq, A.mul(s, sf), A.mul(d, df));
 }
 
-LP_INLINE v4f run(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
+template <typename V>
+LP_INLINE V run(const LlvmpipeFloatPlan& plan, const Inputs<V>& in) {
   const LlvmpipeFloatShape& p = plan.shape;
-  const Arith A(plan.flushDenormals, plan.fma);
-  Inputs in{Vec::of(source), Vec::of(destination), Vec::of(constant), source[3], constant[3], p.hasAlpha};
-  const Vec sf = factorVector(A, p.rs, p.as, in), df = factorVector(A, p.rd, p.ad, in);
-  Vec result = lpBlend(A, p.eqRgb, p.rs, p.rd, in.src, in.dst, sf, df, p.independent);
+  const Arith<V> A(plan.flushDenormals, plan.fma);
+  const Vec<V> sf = factorVector(A, p.rs, p.as, in), df = factorVector(A, p.rd, p.ad, in);
+  Vec<V> result = lpBlend(A, p.eqRgb, p.rs, p.rd, in.src, in.dst, sf, df, p.independent);
   if (p.eqRgb != p.eqAlpha && p.channels > 1 && p.hasAlpha)
-    result.v[3] = lpBlend(A, p.eqAlpha, p.as, p.ad, in.src, in.dst, sf, df, p.independent).v[3];
+    result.v = selectLanes<V>(in.alphaLanes, lpBlend(A, p.eqAlpha, p.as, p.ad, in.src, in.dst, sf, df, p.independent).v,
+                              result.v);
   return result.v;
 }
 
-v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
-  return run(plan, constant, source, destination);
+// One pixel: its four channels in four lanes.
+LP_INLINE v4f runPixel(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
+  const Inputs<v4f> in{Vec<v4f>::of(source), Vec<v4f>::of(destination), Vec<v4f>::of(constant),
+                       splat(source[3]), splat(destination[3]), splat(constant[3]), v4i{0, 0, 0, -1},
+                       plan.shape.hasAlpha};
+  return run(plan, in);
 }
+// Eight lanes of LlvmpipeLanes8.
+LP_INLINE v8f runLanes(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& l) {
+  const Inputs<v8f> in{Vec<v8f>::of(l.source), Vec<v8f>::of(l.destination), Vec<v8f>::of(l.constant),
+                       l.sourceAlpha, l.destinationAlpha, l.constantAlpha, v8i{0, 0, 0, -1, 0, 0, 0, -1},
+                       plan.shape.hasAlpha};
+  return run(plan, in);
+}
+
+v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
+  return runPixel(plan, constant, source, destination);
+}
+// Eight lanes need AVX2's 256-bit integer operations (the DAZ, NaN and tiny tests); without it
+// the compiler splits them into scalar code slower than four lanes twice. Chosen at run time
+// (llvmpipeFloatBlend8For); the same IEEE operations per lane as the four-lane path.
+#define LP_AVX2 [[gnu::target("avx2")]]
+LP_AVX2 v8f general8(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& lanes) { return runLanes(plan, lanes); }
 
 // `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
 template <LlvmpipeFloatShape Shape>
-v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
+LlvmpipeFloatPlan withShape(const LlvmpipeFloatPlan& plan) {
   LlvmpipeFloatPlan p;
   p.shape = Shape;
   p.flushDenormals = plan.flushDenormals;
   p.fma = plan.fma;
-  return run(p, constant, source, destination);
+  return p;
+}
+template <LlvmpipeFloatShape Shape>
+v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
+  return runPixel(withShape<Shape>(plan), constant, source, destination);
+}
+template <LlvmpipeFloatShape Shape>
+LP_AVX2 v8f compiled8(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& lanes) {
+  return runLanes(withShape<Shape>(plan), lanes);
 }
 
 // One compiled function per method blend state and float layout: r, rg (no alpha) and rgba.
 struct CompiledEntry {
   LlvmpipeFloatShape shape;
   LlvmpipeFloatBlendFn fn;
+  LlvmpipeFloatBlend8Fn fn8;
 };
 template <size_t I, int Channels>
 constexpr CompiledEntry entry() {
   constexpr LlvmpipeFloatShape shape = llvmpipeFloatShape(Channels, Channels == 4, states::kMethodBlendStates[I]);
-  return {shape, &compiled<shape>};
+  return {shape, &compiled<shape>, &compiled8<shape>};
 }
 template <size_t... I>
 constexpr auto compiledTable(std::index_sequence<I...>) {
@@ -285,13 +367,24 @@ LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool
   return general;
 }
 
+LlvmpipeFloatBlend8Fn llvmpipeFloatBlend8For(const LlvmpipeFloatShape& shape, bool specialised) {
+#if defined(__x86_64__)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (!avx2) return nullptr;
+#endif
+  if (specialised)
+    for (const CompiledEntry& e : kCompiled)
+      if (e.shape == shape) return e.fn8;
+  return general8;
+}
+
 glm::vec4 blendLlvmpipeFloat(const Format& format, const BlendState& state, const glm::vec4& constant, bool fma,
                              bool flushDenormals, const glm::vec4& source, const glm::vec4& destination) {
   LlvmpipeFloatPlan plan;
   plan.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
   plan.flushDenormals = flushDenormals;
   plan.fma = fma;
-  return store4(run(plan, load4(constant), load4(source), load4(destination)));
+  return store4(runPixel(plan, load4(constant), load4(source), load4(destination)));
 }
 
 }  // namespace oitref::detail

@@ -54,9 +54,21 @@ struct LlvmpipeFloatPlan {
 // The four lanes travel in vector registers (blend_math.h's v4f).
 using LlvmpipeFloatBlendFn = v4f (*)(const LlvmpipeFloatPlan&, v4f constant, v4f source, v4f destination);
 
+// Eight lanes blended together: the channels of 8 / channels pixels side by side (rgba: two
+// pixels, rg: four, r: eight), with each lane's pixel's source, destination and constant alpha
+// beside them. Lane for lane the bits of LlvmpipeFloatBlendFn on each pixel.
+typedef float v8f __attribute__((vector_size(32)));
+typedef int32_t v8i __attribute__((vector_size(32)));
+struct LlvmpipeLanes8 {
+  v8f source, destination, constant, sourceAlpha, destinationAlpha, constantAlpha;
+};
+using LlvmpipeFloatBlend8Fn = v8f (*)(const LlvmpipeFloatPlan&, const LlvmpipeLanes8&);
+
 // The general function, and one compiled for the plan's shape when it is that of a method blend
 // state (method_blend_states.h), with the same bits; `specialised` false always gives the general one.
 LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool specialised = true);
+// The eight-lane function: nullptr where the CPU lacks AVX2 (then blend pixel by pixel).
+LlvmpipeFloatBlend8Fn llvmpipeFloatBlend8For(const LlvmpipeFloatShape& shape, bool specialised = true);
 
 // The blended value of the texel's channels (fp32, before conversion into the format).
 glm::vec4 blendLlvmpipeFloat(const Format& format, const BlendState& state, const glm::vec4& constant, bool fma,

@@ -111,10 +111,11 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
     use<llvmpipeFloatKernel>();
     const int c = format.channels;
     if (allowFastPath && mask_ == all && (c == 1 || c == 2 || c == 4)) {
+      llvmpipeBlend8_ = llvmpipeFloatBlend8For(llvmpipePlan_.shape, allowFastPath);
       if (format.encoding() == ChannelEncoding::Half)
-        c == 4 ? use<llvmpipeFloatTexelKernel<4, true>>() : c == 2 ? use<llvmpipeFloatTexelKernel<2, true>>() : use<llvmpipeFloatTexelKernel<1, true>>();
+        c == 4 ? useLlvmpipeTexel<4, true>() : c == 2 ? useLlvmpipeTexel<2, true>() : useLlvmpipeTexel<1, true>();
       else if (format.encoding() == ChannelEncoding::Float32)
-        c == 4 ? use<llvmpipeFloatTexelKernel<4, false>>() : c == 2 ? use<llvmpipeFloatTexelKernel<2, false>>() : use<llvmpipeFloatTexelKernel<1, false>>();
+        c == 4 ? useLlvmpipeTexel<4, false>() : c == 2 ? useLlvmpipeTexel<2, false>() : useLlvmpipeTexel<1, false>();
     }
   } else if (!allowFastPath || mask_ != all) use<genericKernel>();
   else {
@@ -173,6 +174,71 @@ void TargetBlender::llvmpipeFloatTexelKernel(const TargetBlender& b, const glm::
       std::memcpy(texel + 4 * c, &v, 4);
     }
   }
+}
+
+namespace {
+
+// The lanes of 8 / Channels pixels side by side (the llvmpipe model's eight-lane batch): each
+// pixel's first Channels lanes of `px`, and beside every one of them that pixel's lane 3 (its
+// alpha: a source's alpha, or the 1 that loadFloatTexel puts there for a target without alpha).
+// Built with shuffles in registers, not lane by lane in memory (store forwarding).
+template <int Channels>
+inline void gatherLanes(const v4f* px, v8f& values, v8f& alphas) {
+  if constexpr (Channels == 4) {
+    values = __builtin_shufflevector(px[0], px[1], 0, 1, 2, 3, 4, 5, 6, 7);
+    alphas = __builtin_shufflevector(px[0], px[1], 3, 3, 3, 3, 7, 7, 7, 7);
+  } else if constexpr (Channels == 2) {
+    const v4f lo = __builtin_shufflevector(px[0], px[1], 0, 1, 4, 5), hi = __builtin_shufflevector(px[2], px[3], 0, 1, 4, 5);
+    const v4f alo = __builtin_shufflevector(px[0], px[1], 3, 3, 7, 7), ahi = __builtin_shufflevector(px[2], px[3], 3, 3, 7, 7);
+    values = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
+    alphas = __builtin_shufflevector(alo, ahi, 0, 1, 2, 3, 4, 5, 6, 7);
+  } else {
+    v4f ra[4];  // pixel pairs: (r_2k, r_2k+1, a_2k, a_2k+1)
+    for (int k = 0; k < 4; ++k) ra[k] = __builtin_shufflevector(px[2 * k], px[2 * k + 1], 0, 4, 3, 7);
+    const v4f rlo = __builtin_shufflevector(ra[0], ra[1], 0, 1, 4, 5), rhi = __builtin_shufflevector(ra[2], ra[3], 0, 1, 4, 5);
+    const v4f alo = __builtin_shufflevector(ra[0], ra[1], 2, 3, 6, 7), ahi = __builtin_shufflevector(ra[2], ra[3], 2, 3, 6, 7);
+    values = __builtin_shufflevector(rlo, rhi, 0, 1, 2, 3, 4, 5, 6, 7);
+    alphas = __builtin_shufflevector(alo, ahi, 0, 1, 2, 3, 4, 5, 6, 7);
+  }
+}
+
+}  // namespace
+
+// llvmpipeFloatTexelKernel over a batch, eight lanes (8 / Channels pixels) per blend call; the
+// pixels left over one at a time. Lane for lane the same operations, so the same bits.
+template <int Channels, bool Half>
+void TargetBlender::llvmpipeFloatTexelBatch(const TargetBlender& b, const glm::vec4* const* sources,
+                                            uint8_t* const* texels, int n) {
+  constexpr int P = 8 / Channels;
+  LlvmpipeLanes8 lanes;
+  const v4f c = load4(b.rawConstant_);
+  v4f cs[P];
+  for (v4f& x : cs) x = c;
+  v8f constantAlpha;
+  gatherLanes<Channels>(cs, lanes.constant, constantAlpha);
+  lanes.constantAlpha = constantAlpha;
+  int i = 0;
+  for (; i + P <= n; i += P) {
+    v4f s[P], d[P];
+    for (int p = 0; p < P; ++p) {
+      s[p] = load4(*sources[i + p]);
+      d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
+    }
+    gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
+    gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
+    const v8f r = b.llvmpipeBlend8_(b.llvmpipePlan_, lanes);
+    for (int p = 0; p < P; ++p)
+      for (int ch = 0; ch < Channels; ++ch) {
+        if constexpr (Half) {
+          const uint16_t h = encodeHalfInline(r[p * Channels + ch], b.profile_.fp16);
+          std::memcpy(texels[i + p] + 2 * ch, &h, 2);
+        } else {
+          const float v = r[p * Channels + ch];
+          std::memcpy(texels[i + p] + 4 * ch, &v, 4);
+        }
+      }
+  }
+  for (; i < n; ++i) llvmpipeFloatTexelKernel<Channels, Half>(b, *sources[i], texels[i]);
 }
 
 void TargetBlender::nvidiaKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {

@@ -62,6 +62,13 @@ class TargetBlender {
   static void integerUnormKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void llvmpipeFloatKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <int Channels, bool Half> static void llvmpipeFloatTexelKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <int Channels, bool Half>
+  static void llvmpipeFloatTexelBatch(const TargetBlender&, const glm::vec4* const*, uint8_t* const*, int);
+  template <int Channels, bool Half>
+  void useLlvmpipeTexel() {
+    kernel_ = llvmpipeFloatTexelKernel<Channels, Half>;
+    batchKernel_ = llvmpipeBlend8_ ? llvmpipeFloatTexelBatch<Channels, Half> : batchOf<llvmpipeFloatTexelKernel<Channels, Half>>;
+  }
   static void nvidiaKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void maskedOffKernel(const TargetBlender&, const glm::vec4&, uint8_t*) {}
 
@@ -75,6 +82,7 @@ class TargetBlender {
   bool flushDenormals_;
   LlvmpipeFloatPlan llvmpipePlan_;
   LlvmpipeFloatBlendFn llvmpipeBlend_ = nullptr;
+  LlvmpipeFloatBlend8Fn llvmpipeBlend8_ = nullptr;
   UnormIntegerPlan unormPlan_;
   UnormIntegerBlendFn unormBlend_ = nullptr;
   Kernel kernel_;
