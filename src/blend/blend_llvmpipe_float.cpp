@@ -73,7 +73,7 @@ bool hardwareFma() {
 }
 #endif
 template <typename V>
-V fusedMultiplyAdd(V x, V y, V z) {
+LP_INLINE V fusedMultiplyAdd(V x, V y, V z) {
 #if defined(__x86_64__)
   if (hardwareFma()) {
     if constexpr (kLanes<V> == 4) return fusedMultiplyAdd4Hardware(x, y, z);
@@ -321,7 +321,9 @@ v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destina
 // the compiler splits them into scalar code slower than four lanes twice. Chosen at run time
 // (llvmpipeFloatBlend8For); the same IEEE operations per lane as the four-lane path.
 #define LP_AVX2 [[gnu::target("avx2")]]
-LP_AVX2 v8f general8(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& lanes) { return runLanes(plan, lanes); }
+LP_AVX2 void general8(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& lanes, v8f& result) {
+  result = runLanes(plan, lanes);
+}
 
 // `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
 template <LlvmpipeFloatShape Shape>
@@ -337,8 +339,8 @@ v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destin
   return runPixel(withShape<Shape>(plan), constant, source, destination);
 }
 template <LlvmpipeFloatShape Shape>
-LP_AVX2 v8f compiled8(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& lanes) {
-  return runLanes(withShape<Shape>(plan), lanes);
+LP_AVX2 void compiled8(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& lanes, v8f& result) {
+  result = runLanes(withShape<Shape>(plan), lanes);
 }
 
 // One compiled function per method blend state and float layout: r, rg (no alpha) and rgba.

@@ -62,7 +62,10 @@ typedef int32_t v8i __attribute__((vector_size(32)));
 struct LlvmpipeLanes8 {
   v8f source, destination, constant, sourceAlpha, destinationAlpha, constantAlpha;
 };
-using LlvmpipeFloatBlend8Fn = v8f (*)(const LlvmpipeFloatPlan&, const LlvmpipeLanes8&);
+// The lanes travel by reference, never as values: the function is compiled for AVX2, and a
+// 32-byte vector passed by value between code built with and without AVX would not agree on
+// where it lives (the portable build).
+using LlvmpipeFloatBlend8Fn = void (*)(const LlvmpipeFloatPlan&, const LlvmpipeLanes8&, v8f& result);
 
 // The general function, and one compiled for the plan's shape when it is that of a method blend
 // state (method_blend_states.h), with the same bits; `specialised` false always gives the general one.

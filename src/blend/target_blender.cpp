@@ -226,7 +226,8 @@ void TargetBlender::llvmpipeFloatTexelBatch(const TargetBlender& b, const glm::v
     }
     gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
     gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
-    const v8f r = b.llvmpipeBlend8_(b.llvmpipePlan_, lanes);
+    v8f r;
+    b.llvmpipeBlend8_(b.llvmpipePlan_, lanes, r);
     for (int p = 0; p < P; ++p)
       for (int ch = 0; ch < Channels; ++ch) {
         if constexpr (Half) {
