@@ -528,3 +528,51 @@ TEST_CASE("mt: Sharpe's moment transparency is the MSM bound on log depth in clo
   const double w = 0.5 / 256, norm = 1 + 0.5 * w;
   requireClose(render(s, "mt").finalFloat, 4, 4, {1 / norm, 0.5 * w / norm, 0}, 2e-5, "mt, opaque front layer");
 }
+
+TEST_CASE("moments: the batched reconstruction gives powerMomentAbsorbance's bits and fallbacks", "[moments]") {
+  // powerMomentAbsorbanceBatch runs the four-moment closed form eight fragments at a time in
+  // lanes; every lane must equal the one-fragment function, including where it falls back
+  // (singular Hankel matrices, non-finite moments) and for counts not a multiple of eight.
+  test::BitStream rng(31);
+  for (int count : {4, 6, 8}) {
+    const int n = 8 * 61 + 5;
+    std::vector<float> b(static_cast<size_t>(n * count)), z(static_cast<size_t>(n)), batch(static_cast<size_t>(n));
+    std::vector<char> fellBackBatch(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      const int kind = int(rng.next() % 4);
+      // Moments of one to three layers (valid or on the boundary), random numbers, or specials.
+      float depths[3] = {rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f)};
+      float weights[3] = {rng.uniform(0.0f, 1.0f), rng.uniform(0.0f, 1.0f), rng.uniform(0.0f, 1.0f)};
+      const int layers = 1 + int(rng.next() % 3);
+      float total = 0.0f;
+      for (int l = 0; l < layers; ++l) total += weights[l];
+      for (int k = 0; k < count; ++k) {
+        float m = 0.0f;
+        for (int l = 0; l < layers; ++l) m += weights[l] / total * std::pow(depths[l], float(k + 1));
+        b[size_t(i * count + k)] = kind == 0   ? m
+                                   : kind == 1 ? rng.uniform(-1.0f, 1.0f)
+                                   : kind == 2 ? (rng.next() % 2 ? NAN : INFINITY)
+                                               : m + rng.uniform(-1e-4f, 1e-4f);
+      }
+      z[size_t(i)] = rng.next() % 5 == 0 ? depths[0] : rng.uniform(-1.0f, 1.0f);
+    }
+    for (float bias : {0.0f, 5e-7f, 3e-2f}) {
+      const float* biasVector = methods::powerBiasVector(count, false);
+      static_assert(sizeof(bool) == sizeof(char));
+      methods::powerMomentAbsorbanceBatch(count, b.data(), z.data(), n, bias, biasVector, 0.25f, batch.data(),
+                                          reinterpret_cast<bool*>(fellBackBatch.data()));
+      int fallbacks = 0, different = 0;
+      for (int i = 0; i < n; ++i) {
+        bool fellBack = false;
+        const float one = methods::powerMomentAbsorbance(count, &b[size_t(i * count)], z[size_t(i)], bias, biasVector,
+                                                         0.25f, &fellBack);
+        fallbacks += fellBack;
+        different += test::toBits(one) != test::toBits(batch[size_t(i)]) || fellBack != bool(fellBackBatch[size_t(i)]);
+      }
+      INFO("count " << count << " bias " << bias << " fallbacks " << fallbacks);
+      CHECK(different == 0);
+      CHECK(fallbacks > 0);
+      CHECK(fallbacks < n);
+    }
+  }
+}

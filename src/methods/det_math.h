@@ -48,19 +48,49 @@ inline void detExpBatch(const double* x, double* out, int n) {
 }
 
 // ln x: x = m·2^e with m in [√½, √2), ln m = 2·atanh(s), s = (m − 1)/(m + 1), |s| ≤ 0.172,
-// series to s^33.
-inline double detLog(double x) {
-  if (std::isnan(x) || x < 0.0) return std::numeric_limits<double>::quiet_NaN();
-  if (x == 0.0) return -std::numeric_limits<double>::infinity();
-  if (std::isinf(x)) return x;
-  int e = 0;
-  double m = std::frexp(x, &e);  // m in [0.5, 1)
-  if (m < 0.70710678118654752440) m *= 2.0, --e;
-  const double s = (m - 1.0) / (m + 1.0), s2 = s * s;
-  double series = 0.0;
+// series to s^33. detLogReduce splits x (false for the special inputs, whose result it gives);
+// detLogSeries finishes on one value (D = double) or four lanes (D = v4d, detLogBatch).
+inline bool detLogReduce(double x, double& s, double& e, double& special) {
+  if (std::isnan(x) || x < 0.0) return special = std::numeric_limits<double>::quiet_NaN(), false;
+  if (x == 0.0) return special = -std::numeric_limits<double>::infinity(), false;
+  if (std::isinf(x)) return special = x, false;
+  int exponent = 0;
+  double m = std::frexp(x, &exponent);  // m in [0.5, 1)
+  if (m < 0.70710678118654752440) m *= 2.0, --exponent;
+  s = (m - 1.0) / (m + 1.0);
+  e = double(exponent);
+  return true;
+}
+template <typename D>
+inline D detLogSeries(D s, D e) {
+  const D s2 = s * s;
+  D series{};
   for (int n = 33; n >= 1; n -= 2) series = 1.0 / n + s2 * series;
   constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
   return (2.0 * s * series + e * kLn2Lo) + e * kLn2Hi;
+}
+inline double detLog(double x) {
+  double s = 0.0, e = 0.0, special = 0.0;
+  return detLogReduce(x, s, e, special) ? detLogSeries(s, e) : special;
+}
+
+// detLog of n arguments, four at a time in vector lanes: each lane takes detLog's operations in
+// its order (so the same bits); the four chains of 17 dependent multiply-adds overlap.
+inline void detLogBatch(const double* x, double* out, int n) {
+  typedef double v4d __attribute__((vector_size(32)));
+  for (int start = 0; start < n; start += 4) {
+    const int lanes = n - start < 4 ? n - start : 4;
+    v4d s{}, e{};
+    double special[4] = {};
+    bool regular[4] = {};
+    for (int i = 0; i < lanes; ++i) {
+      double si = 0.0, ei = 0.0;
+      regular[i] = detLogReduce(x[start + i], si, ei, special[i]);
+      s[i] = si, e[i] = ei;
+    }
+    const v4d r = detLogSeries(s, e);
+    for (int i = 0; i < lanes; ++i) out[start + i] = regular[i] ? r[i] : special[i];
+  }
 }
 
 // cos x and sin x for |x| ≤ 2^20: x = k·π/2 + r with |r| ≤ π/4 (π/2 in two parts, so r is

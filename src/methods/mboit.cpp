@@ -77,8 +77,15 @@ class Mboit final : public Method {
       if (!logWarp) return 2.0f * in.depth - 1.0f;
       return float(2.0 * detLog(double(in.viewDepth) / double(cam.nearPlane)) / logRange - 1.0);
     };
-    auto absorbanceOf = [](float alpha) {
-      return float(-detLog(1.0 - double(std::min(alpha, 1.0f - 0x1p-20f))));
+    // A = −ln(1 − α), α clamped below 1; the logarithms of a batch together (detLogBatch: the
+    // same bits as one at a time).
+    auto logArgument = [](float alpha) { return 1.0 - double(std::min(alpha, 1.0f - 0x1p-20f)); };
+    auto absorbanceOf = [&](float alpha) { return float(-detLog(logArgument(alpha))); };
+    auto absorbancesOf = [&](const glm::vec4* colors, int count, float* a) {
+      double x[kShaderBatch], ln[kShaderBatch];
+      for (int i = 0; i < count; ++i) x[i] = logArgument(colors[i].a);
+      detLogBatch(x, ln, count);
+      for (int i = 0; i < count; ++i) a[i] = float(-ln[i]);
     };
     const MomentSet set = set_;
     const int reals = set.reals();
@@ -95,16 +102,20 @@ class Mboit final : public Method {
       momentFb.color[0] = &b0Image;
       momentFb.color[1] = momentImages[0];
       momentFb.color[2] = momentImages[1];
-      run.transparentPass("moments", momentFb, transparentState(profile, additiveBlend()),
-                          [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
-                            const float a = absorbanceOf(c.a);
-                            if (a < 1e-7f) return;  // nearly clear: adds nothing measurable
-                            float m[8] = {};
-                            momentsOf(set, warp(in), zone, m);
-                            out.write(0, glm::vec4(a));
-                            out.write(1, glm::vec4(m[0], m[1], m[2], m[3]) * a);
-                            if (reals > 4) out.write(2, glm::vec4(m[4], m[5], m[6], m[7]) * a);
-                          });
+      run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
+                               [&](const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count) {
+                                 float absorbance[kShaderBatch];
+                                 absorbancesOf(colors, count, absorbance);
+                                 for (int i = 0; i < count; ++i) {
+                                   const float a = absorbance[i];
+                                   if (a < 1e-7f) continue;  // nearly clear: adds nothing measurable
+                                   float m[8] = {};
+                                   momentsOf(set, warp(in[i]), zone, m);
+                                   out[i].write(0, glm::vec4(a));
+                                   out[i].write(1, glm::vec4(m[0], m[1], m[2], m[3]) * a);
+                                   if (reals > 4) out[i].write(2, glm::vec4(m[4], m[5], m[6], m[7]) * a);
+                                 }
+                               });
     } else {
       run.transparentPass("moments", momentFb, transparentState(profile, BlendState{}),
                           [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput&) {
@@ -135,22 +146,34 @@ class Mboit final : public Method {
     accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentInput* in, const glm::vec4*, float* w, int count) {
       double exponent[kShaderBatch], weight[kShaderBatch];
       bool clear[kShaderBatch];
+      // The fragments that reconstruct (not clear), their normalised moments and depths side by
+      // side, so that powerMomentAbsorbanceBatch can run them in lanes.
+      int used[kShaderBatch], n = 0;
+      float moments[kShaderBatch * 8], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
+      bool fellBack[kShaderBatch];
       for (int i = 0; i < count; ++i) {
         const float b0 = b0Image.fetch(in[i].x, in[i].y).r;
         clear[i] = b0 < 0.00100050033f;
         exponent[i] = 0.0;
         if (clear[i]) continue;
-        float stored[8] = {}, b[8] = {};
+        float stored[8] = {};
+        float* b = moments + size_t(n) * size_t(reals);
         loadMoments(in[i].x, in[i].y, stored);
         if (quantised) dequantiseMoments(set, stored, b);
         else for (int k = 0; k < reals; ++k) b[k] = stored[k] / b0;
-        bool fellBack = false;
-        const float z = warp(in[i]);
-        const float absorbance = set.trigonometric
-                                     ? trigMomentAbsorbance(set.count, b, z, bias, overestimation, zone, &fellBack)
-                                     : powerMomentAbsorbance(set.count, b, z, bias, biasVector, overestimation, &fellBack);
-        if (fellBack) fallbacks.fetch_add(1, std::memory_order_relaxed);
-        exponent[i] = -double(b0) * double(absorbance);
+        depths[n] = warp(in[i]);
+        b0s[n] = b0;
+        used[n++] = i;
+      }
+      if (set.trigonometric)
+        for (int j = 0; j < n; ++j)
+          absorbance[j] = trigMomentAbsorbance(set.count, moments + size_t(j) * size_t(reals), depths[j], bias,
+                                               overestimation, zone, &fellBack[j]);
+      else
+        powerMomentAbsorbanceBatch(set.count, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
+      for (int j = 0; j < n; ++j) {
+        if (fellBack[j]) fallbacks.fetch_add(1, std::memory_order_relaxed);
+        exponent[used[j]] = -double(b0s[j]) * double(absorbance[j]);
       }
       detExpBatch(exponent, weight, count);
       for (int i = 0; i < count; ++i) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 #include "methods/det_math.h"
 
@@ -194,37 +195,65 @@ RootList<std::complex<double>> complexRoots(const std::complex<double>* c, int n
 
 namespace {
 
-// 4 power moments in closed form, in the order of the paper code's fp32 operations.
-float fourPowerMomentAbsorbance(const float* m, float z, float overestimation, bool& ok) {
+// Lanes for the closed form below: one fragment (float, bool) or eight (v8f, −1/0 lanes), so
+// that the rule is written once and a batch's lanes run the scalar operations side by side.
+typedef float v8f __attribute__((vector_size(32)));
+typedef int32_t v8i __attribute__((vector_size(32)));
+template <typename F>
+using MaskOf = std::conditional_t<std::is_same_v<F, float>, bool, v8i>;
+template <typename F>
+inline F splatF(float v) {
+  return F{} + v;
+}
+inline float selectF(bool m, float a, float b) { return m ? a : b; }
+inline v8f selectF(v8i m, v8f a, v8f b) { return m ? a : b; }
+inline float sqrtF(float x) { return std::sqrt(x); }
+inline v8f sqrtF(v8f x) {
+  v8f r;
+  for (int i = 0; i < 8; ++i) r[i] = std::sqrt(x[i]);  // IEEE square root, per lane
+  return r;
+}
+// isfinite, with floating-point operations only: x − x is 0 for finite x and NaN for ±inf, NaN.
+template <typename F>
+inline MaskOf<F> finiteF(F x) {
+  return (x - x) == splatF<F>(0.0f);
+}
+
+// 4 power moments in closed form, in the order of the paper code's fp32 operations; `ok` is
+// false where the moments cannot be used (a pivot not positive, a root not finite), and the
+// result there is `overestimation`.
+template <typename F>
+F fourPowerMomentAbsorbance(const F* m, F z, float overestimation, MaskOf<F>& ok) {
   // Cholesky of [1 m0 m1; m0 m1 m2; m1 m2 m3] = L·D·Lᵀ.
-  const float d11 = m[1] - m[0] * m[0];
-  const float l21d11 = m[2] - m[0] * m[1];
-  if (!(d11 > 0.0f)) return ok = false, overestimation;
-  const float l21 = l21d11 / d11;
-  const float d22 = (m[3] - m[1] * m[1]) - l21d11 * l21;
-  if (!(d22 > 0.0f)) return ok = false, overestimation;
+  const F d11 = m[1] - m[0] * m[0];
+  const F l21d11 = m[2] - m[0] * m[1];
+  const MaskOf<F> pivot1 = d11 > splatF<F>(0.0f);
+  const F l21 = l21d11 / d11;
+  const F d22 = (m[3] - m[1] * m[1]) - l21d11 * l21;
+  const MaskOf<F> pivot2 = d22 > splatF<F>(0.0f);
   // Solve L·D·Lᵀ·c = (1, z, z²).
-  float c0 = 1.0f, c1 = z - m[0], c2 = z * z - m[1] - l21 * c1;
+  F c0 = splatF<F>(1.0f), c1 = z - m[0], c2 = z * z - m[1] - l21 * c1;
   c1 = c1 / d11;
   c2 = c2 / d22;
   c1 = c1 - l21 * c2;
   c0 = c0 - (c1 * m[0] + c2 * m[1]);
   // Roots of c0 + c1·x + c2·x².
-  const float p = c1 / c2, q = c0 / c2;
-  const float disc = p * p * 0.25f - q;
-  const float r = std::sqrt(disc);
-  const float z1 = -p * 0.5f - r, z2 = -p * 0.5f + r;
-  if (!std::isfinite(z1) || !std::isfinite(z2)) return ok = false, overestimation;
+  const F p = c1 / c2, q = c0 / c2;
+  const F disc = p * p * 0.25f - q;
+  const F r = sqrtF(disc);
+  const F z1 = -p * 0.5f - r, z2 = -p * 0.5f + r;
+  ok = pivot1 & pivot2 & finiteF(z1) & finiteF(z2);
   // Newton form of the quadratic through (z, f0), (z1, f1), (z2, f2).
-  const float f0 = overestimation, f1 = z1 < z ? 1.0f : 0.0f, f2 = z2 < z ? 1.0f : 0.0f;
-  const float f01 = (f1 - f0) / (z1 - z);
-  const float f12 = (f2 - f1) / (z2 - z1);
-  const float f012 = (f12 - f01) / (z2 - z);
+  const F one = splatF<F>(1.0f), zero = splatF<F>(0.0f);
+  const F f0 = splatF<F>(overestimation), f1 = selectF(z1 < z, one, zero), f2 = selectF(z2 < z, one, zero);
+  const F f01 = (f1 - f0) / (z1 - z);
+  const F f12 = (f2 - f1) / (z2 - z1);
+  const F f012 = (f12 - f01) / (z2 - z);
   // p(x) = f0 + f01·(x − z) + f012·(x − z)(x − z1) = a0 + a1·x + a2·x².
-  const float a2 = f012;
-  const float a1 = f01 - f012 * (z + z1);
-  const float a0 = f0 - f01 * z + f012 * z * z1;
-  return a0 + a1 * m[0] + a2 * m[1];
+  const F a2 = f012;
+  const F a1 = f01 - f012 * (z + z1);
+  const F a0 = f0 - f01 * z + f012 * z * z1;
+  return selectF(ok, a0 + a1 * m[0] + a2 * m[1], f0);
 }
 
 float divideAny(float a, float b) { return a / b; }
@@ -257,7 +286,7 @@ float powerMomentAbsorbance(int count, const float* b, float z, float bias, cons
   };
   float m[9];
   m[0] = 1.0f;
-  for (int k = 0; k < count; ++k) m[k + 1] = (1.0f - bias) * b[k] + bias * biasVector[k];
+  for (int k = 0; k < count; ++k) m[k + 1] = biasedMoment(b[k], bias, biasVector[k]);
   if (count == 4) {
     bool ok = true;
     const float a = fourPowerMomentAbsorbance(m + 1, z, overestimation, ok);
@@ -302,6 +331,28 @@ float powerMomentAbsorbance(int count, const float* b, float z, float bias, cons
   float absorbance = 0.0f;
   for (int k = 0; k <= n; ++k) absorbance += poly[k] * m[k];
   return std::isfinite(absorbance) ? absorbance : fallBack();
+}
+
+void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, const float* biasVector,
+                                float overestimation, float* absorbance, bool* fellBack) {
+  int i = 0;
+  if (count == 4)
+    for (; i + 8 <= n; i += 8) {
+      v8f m[4], zl;
+      for (int l = 0; l < 8; ++l) {
+        zl[l] = z[i + l];
+        for (int k = 0; k < 4; ++k) m[k][l] = biasedMoment(b[(i + l) * 4 + k], bias, biasVector[k]);
+      }
+      v8i ok;
+      const v8f a = fourPowerMomentAbsorbance(m, zl, overestimation, ok);
+      const v8i use = ok & finiteF(a);
+      for (int l = 0; l < 8; ++l) {
+        fellBack[i + l] = !use[l];
+        absorbance[i + l] = use[l] ? a[l] : overestimation;
+      }
+    }
+  for (; i < n; ++i)
+    absorbance[i] = powerMomentAbsorbance(count, b + size_t(i) * count, z[i], bias, biasVector, overestimation, &fellBack[i]);
 }
 
 float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation, const WrappingZone& zone,

@@ -58,6 +58,13 @@ const float* powerBiasVector(int count, bool quantised);
 // definite, or a root or the result is not finite).
 float powerMomentAbsorbance(int count, const float* b, float z, float bias, const float* biasVector,
                             float overestimation, bool* fellBack = nullptr);
+// powerMomentAbsorbance for n fragments: b[i·count + k] their moments, z[i] their depths; the
+// four-moment closed form runs eight fragments side by side in vector lanes (the same operations
+// per lane, so the same bits), other counts one at a time.
+void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, const float* biasVector,
+                                float overestimation, float* absorbance, bool* fellBack);
+// The moment pulled towards the bias vector: (1 − β)·b + β·bias, as the paper code forms it.
+inline float biasedMoment(float b, float bias, float biasValue) { return (1.0f - bias) * b + bias * biasValue; }
 float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation,
                            const WrappingZone& zone, bool* fellBack = nullptr);
 
