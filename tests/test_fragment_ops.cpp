@@ -252,3 +252,51 @@ TEST_CASE("fragment ops: a batch program gives the per-fragment program's attach
     CHECK(stats[1].fragmentsDepthFailed > 0);
   }
 }
+
+TEST_CASE("fragment ops: a pure program that may discard gives the late test's attachments, shading fewer", "[fragment]") {
+  // FragmentProgram::pure lets fragments that fail the depth test go unshaded although the test
+  // of a discarding shader comes after it. The oracle is the same program without `pure` (the
+  // late test of GL §15.2.4 as written): identical colour and depth bytes for every compare
+  // function and write mask, with discards, on the span and the per-fragment paths; what
+  // changes is only that fewer fragments are shaded.
+  const Geometry g = overlappingTriangles(160, 23);
+  const auto shader = [](const FragmentInput& in, FragmentOutput& o) {
+    if ((in.primitiveId + uint32_t(in.x)) % 3 == 0) return o.discard();
+    o.write(0, colorOf(in.primitiveId) * (0.5f + in.depth));
+  };
+  int compared = 0, fewer = 0;
+  for (CompareFunc func : {CompareFunc::Less, CompareFunc::LEqual, CompareFunc::Greater, CompareFunc::NotEqual})
+    for (bool writeDepth : {true, false})
+      for (bool perFragment : {false, true}) {
+        std::vector<uint8_t> bytes[2];
+        DrawStats stats[2];
+        for (int pure = 0; pure < 2; ++pure) {
+          Renderer r(RendererOptions{2, 8, perFragment});
+          Image a(makeFormat(FormatId::RGBA8), W, H);
+          a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+          DepthBuffer depth(DepthFormat::D24, W, H);
+          depth.clear(func == CompareFunc::Greater ? 0.0 : 0.6);
+          Framebuffer fb;
+          fb.color[0] = &a, fb.depth = &depth;
+          PipelineState st;
+          st.blend[0] = kOver;
+          st.depth = {true, func, writeDepth, false};
+          stats[pure] = r.draw(fb, st, g, programOf(shader, true, false, false, pure == 1));
+          bytes[pure] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
+          for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+              const uint32_t d = depth.load(x, y);
+              bytes[pure].insert(bytes[pure].end(), reinterpret_cast<const uint8_t*>(&d), reinterpret_cast<const uint8_t*>(&d) + 4);
+            }
+        }
+        INFO(toString(func) << " depth writes " << writeDepth << " per fragment " << perFragment);
+        CHECK(bytes[0] == bytes[1]);
+        CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+        CHECK(stats[1].fragmentsShaded <= stats[0].fragmentsShaded);
+        CHECK(stats[0].fragmentsWritten > 0);
+        fewer += stats[1].fragmentsShaded < stats[0].fragmentsShaded;
+        ++compared;
+      }
+  CHECK(compared == 16);
+  CHECK(fewer >= 8);  // LESS and LEQUAL reject early, with or without depth writes, on both paths
+}

@@ -79,20 +79,28 @@ using FragmentBatchShader = std::function<void(const FragmentInput* in, Fragment
 // layout(early_fragment_tests)) forces the test and the depth write before shading even then.
 // Outputs the shader does not write leave their attachment unchanged for that fragment.
 // A shader that declares writesDepth but does not call setDepth keeps the interpolated depth.
+//
+// `pure`: the shader's only effects are its outputs and discard (no image stores, atomics or
+// counters). Then a fragment that fails the depth test is not shaded even where the test comes
+// after the shader (a shader that may discard): its shading could change nothing, because the
+// shader cannot move the fragment's depth or the buffer's. The depth write still waits for the
+// shader, so the stored bits are those of the late test; only the counters tell (such fragments
+// count as failing the depth test, not as shaded or discarded). GPUs reject early the same way.
 struct FragmentProgram {
   FragmentShader shader;
   bool mayDiscard = false;
   bool writesDepth = false;
   bool earlyFragmentTests = false;
   FragmentBatchShader batch = {};  // optional: `shader` over a batch
+  bool pure = false;
 };
 
 // A program whose per-fragment and batch shaders are the one callable
 // shader(const FragmentInput&, FragmentOutput&).
 template <typename Shader>
 FragmentProgram programOf(Shader shader, bool mayDiscard = false, bool writesDepth = false,
-                          bool earlyFragmentTests = false) {
-  FragmentProgram program{shader, mayDiscard, writesDepth, earlyFragmentTests, {}};
+                          bool earlyFragmentTests = false, bool pure = false) {
+  FragmentProgram program{shader, mayDiscard, writesDepth, earlyFragmentTests, {}, pure};
   program.batch = [shader](const FragmentInput* in, FragmentOutput* out, int count) {
     for (int i = 0; i < count; ++i) shader(in[i], out[i]);
   };

@@ -76,13 +76,14 @@ class PassRunner {
   // straight colour from the object's shading function (shadeSurface, shared with the ray caster).
   // A template so that the method's shader is compiled into the fragment program (programOf): one
   // indirect call per batch of fragments, not one per fragment and layer of lambdas.
+  // `pure`: FragmentProgram::pure (the shader has no effect but its outputs and discard).
   template <typename Shader>
   void transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const Shader& shader,
-                       bool mayDiscard = false) {
+                       bool mayDiscard = false, bool pure = false) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       return programOf([&object, &shader](const FragmentInput& in, FragmentOutput& out) {
         shader(in, shadeSurface(object, in.attributes), out);
-      }, mayDiscard);
+      }, mayDiscard, false, false, pure);
     });
   }
   // The same with a shader over a batch of fragments of distinct pixels:

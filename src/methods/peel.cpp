@@ -59,7 +59,7 @@ class Peel final : public Method {
                             if (encodeDepth(in.depth, format) <= peeledDepth.load(in.x, in.y)) return out.discard();
                             out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));
                           },
-                          /*mayDiscard=*/true);
+                          /*mayDiscard=*/true, /*pure=*/true);
       const uint64_t peeled = result.passes.back().stats.fragmentsWritten;
       if (peeled == 0) exhausted = true;
       else ++peeledPasses;

@@ -51,7 +51,7 @@ class Screendoor final : public Method {
                           out.write(0, glm::vec4(glm::vec3(c), 1.0f));
                           out.write(1, glm::vec4(glm::vec3(c), 1.0f));
                         },
-                        /*mayDiscard=*/true);
+                        /*mayDiscard=*/true, /*pure=*/true);
     t.finish(result, "opaque");
     return result;
   }

@@ -90,7 +90,7 @@ class Stochastic final : public Method {
                                                                  in.primitiveId, c.a, samples);
                             if (!(mask >> s & 1u)) out.discard();
                           },
-                          /*mayDiscard=*/true);
+                          /*mayDiscard=*/true, /*pure=*/true);
     }
     Image& accum = t.color("accum");
     Image& reveal = t.color("reveal");

@@ -10,7 +10,9 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
   height_ = fb.height();
   earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
   earlyDepthTest_ = earlyTests_ && fb.depth != nullptr && state.depth.testEnabled;
+  earlyReject_ = !earlyTests_ && program.pure && !program.writesDepth && fb.depth != nullptr && state.depth.testEnabled;
   if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb.depth->format(), state.depth.func, state.depth.writeMask);
+  if (earlyReject_) depthBatchTest_ = depthBatchTest(fb.depth->format(), state.depth.func, false);
   blenders_.reserve(kMaxColorTargets);
   bool smallFloatBound = false;  // llvmpipe keeps denormals for the whole draw then
   for (int t = 0; t < kMaxColorTargets; ++t)
@@ -112,7 +114,7 @@ void FragmentStage::span(int y, int x0, int x1) {
     // Early depth tests for the whole batch first: where most fragments are hidden, they end here.
     int alive[kBatch];
     int count = n;
-    if (earlyDepthTest_) {
+    if (earlyDepthTest_ || earlyReject_) {
       count = depthBatchTest_(*fb_.depth, start, y, z, n, alive);
       counters_.depthFailed += uint64_t(n - count);
     } else {
@@ -139,7 +141,7 @@ void FragmentStage::span(int y, int x0, int x1) {
       FragmentInput in;
       fillInput(in, start + i, y, z[i], w[i]);
       const double b[3] = {b0[i], b1[i], b2[i]};
-      if (shade(in, z[i], b, outputs_[size_t(blended)], earlyDepthTest_)) {
+      if (shade(in, z[i], b, outputs_[size_t(blended)], earlyDepthTest_ || earlyReject_)) {
         batchX_[blended] = start + i;
         batchOutput_[blended] = blended;
         ++blended;
@@ -239,13 +241,13 @@ void FragmentStage::process(FragmentInput& in, double z, const double* perspecti
 bool FragmentStage::earlyTest(const FragmentInput& in, double z) {
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
-  if (!earlyTests_ || depth == nullptr || !ds.testEnabled) return true;  // GL §17.3.4: no test, no depth write
+  if (!(earlyDepthTest_ || earlyReject_)) return true;  // GL §17.3.4: no test, no depth write
   const uint32_t fragmentDepth = encodeDepth(z, depth->format());
   if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
     ++counters_.depthFailed;
     return false;
   }
-  if (ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
+  if (earlyDepthTest_ && ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
   return true;
 }
 

@@ -53,7 +53,8 @@ class FragmentStage {
   // Everything before blending; true when the fragment reaches blending with `out`'s colours.
   // `earlyTestDone`: the caller ran the early depth test (and write) already.
   bool shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out, bool earlyTestDone = false);
-  // The early depth test and write, where the program has early tests; false when it fails.
+  // The early depth test and write, where the program has early tests (the test alone, for
+  // earlyReject_); false when it fails.
   bool earlyTest(const FragmentInput& in, double z);
   // After the shader: discard, the late depth test and write (window z `z` unless the shader set
   // one), and whether the fragment wrote a bound output, which makes it reach blending.
@@ -101,6 +102,9 @@ class FragmentStage {
   int height_;  // the framebuffer's
   bool earlyTests_;
   bool earlyDepthTest_;  // early tests, and a depth test to run
+  // A pure program tested late (it may discard): the test also runs before the shader, without
+  // writing, and a fragment that fails it is not shaded (FragmentProgram::pure).
+  bool earlyReject_;
   DepthBatchTest depthBatchTest_ = nullptr;  // span's early test, for the draw's depth state
   unsigned boundTargets_ = 0;
   std::vector<TargetBlender> blenders_;  // per bound target, in target order
