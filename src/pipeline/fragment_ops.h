@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "blend/target_blender.h"
+#include "oitref/lanes.h"
 #include "oitref/renderer.h"
 #include "pipeline/depth_batch.h"
 #include "pipeline/setup.h"
@@ -71,14 +72,15 @@ class FragmentStage {
   void interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count, float* out) const;
   void fillInput(FragmentInput& in, int x, int y, double z, double w) const;
   // Pixel x of the row at NDC y `yn`: the perspective-correct barycentrics b, the view depth w and
-  // the window z, the expressions of the header comment, one rounding each in double. `span`
-  // evaluates it over a batch in one loop (the compiler may use vector lanes: the same IEEE
-  // operations per lane).
-  void interpolate(int x, double yn, double& w, double& b0, double& b1, double& b2, double& z) const {
-    const double xn = double(x) * ndcScaleX_ + ndcOffsetX_;
-    const double k0 = inverse_[0][0] * xn + inverse_[0][1] * yn + inverse_[0][2];
-    const double k1 = inverse_[1][0] * xn + inverse_[1][1] * yn + inverse_[1][2];
-    const double k2 = inverse_[2][0] * xn + inverse_[2][1] * yn + inverse_[2][2];
+  // the window z, the expressions of the header comment, one rounding each in double. On one
+  // pixel (D = double, x an int) or four of a span (D = lanes::d4, x their columns as doubles,
+  // exact): the same IEEE operations in every lane.
+  template <typename D, typename X>
+  void interpolate(X x, double yn, D& w, D& b0, D& b1, D& b2, D& z) const {
+    const D xn = D(x) * ndcScaleX_ + ndcOffsetX_;
+    const D k0 = inverse_[0][0] * xn + inverse_[0][1] * yn + inverse_[0][2];
+    const D k1 = inverse_[1][0] * xn + inverse_[1][1] * yn + inverse_[1][2];
+    const D k2 = inverse_[2][0] * xn + inverse_[2][1] * yn + inverse_[2][2];
     w = 1.0 / (k0 + k1 + k2);  // P.w, the view depth
     b0 = k0 * w, b1 = k1 * w, b2 = k2 * w;
     z = 0.5 * ((b0 * clipZ_[0] + b1 * clipZ_[1] + b2 * clipZ_[2]) / w) + 0.5;

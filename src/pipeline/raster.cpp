@@ -3,8 +3,15 @@
 #include <algorithm>
 
 namespace oitref::detail {
+namespace {
 
 constexpr int kMinSpan = 4;
+
+// ⌊a / b⌋ and ⌈a / b⌉ for b > 0 (C++ division truncates toward zero).
+int64_t floorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+int64_t ceilDiv(int64_t a, int64_t b) { return -floorDiv(-a, b); }
+
+}  // namespace
 
 void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, int subpixelBits, bool perFragment,
                    FragmentStage& stage) {
@@ -24,25 +31,28 @@ void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, in
       stepX[i] = t.edgeA[i] * S;
       rowStart[i] = t.edgeA[i] * px + t.edgeB[i] * py + t.edgeC[i];
     }
-    auto covered = [&](const int64_t* e) { return ((e[0] - bias[0]) | (e[1] - bias[1]) | (e[2] - bias[2])) >= 0; };
     for (int y = y0; y < y1; ++y) {
-      int64_t e[3] = {rowStart[0], rowStart[1], rowStart[2]};
-      // The row's runs of covered pixels, each handed over whole (one per row: the coverage of a
-      // triangle is convex, but nothing here relies on it).
-      for (int x = x0; x < x1;) {
-        while (x < x1 && !covered(e)) ++x, e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2];
-        const int runStart = x;
-        while (x < x1 && covered(e)) ++x, e[0] += stepX[0], e[1] += stepX[1], e[2] += stepX[2];
-        if (x == runStart) break;
+      // The row's covered pixels, from the three half-planes at once: edge i covers x0 + k where
+      // rowStart + k·stepX − bias ≥ 0, a bound on k by exact integer division (the same pixels as
+      // testing each one). Their intersection is one run: a triangle's coverage of a row is convex.
+      int64_t lo = 0, hi = int64_t(x1 - x0);  // k in [lo, hi)
+      for (int i = 0; i < 3 && lo < hi; ++i) {
+        const int64_t e = rowStart[i] - bias[i], step = stepX[i];
+        if (step > 0) lo = std::max(lo, ceilDiv(-e, step));
+        else if (step < 0) hi = std::min(hi, floorDiv(e, -step) + 1);
+        else if (e < 0) hi = lo;
+      }
+      if (lo < hi) {
+        const int runStart = x0 + int(lo), runEnd = x0 + int(hi);
         if (!begun) {
           stage.beginTriangle(t);
           begun = true;
         }
         // Runs shorter than kMinSpan (small triangles) cost less one fragment at a time.
-        if (perFragment || x - runStart < kMinSpan)
-          for (int px = runStart; px < x; ++px) stage.fragment(px, y);
+        if (perFragment || runEnd - runStart < kMinSpan)
+          for (int px = runStart; px < runEnd; ++px) stage.fragment(px, y);
         else
-          stage.span(y, runStart, x);
+          stage.span(y, runStart, runEnd);
       }
       for (int i = 0; i < 3; ++i) rowStart[i] += t.edgeB[i] * S;
     }

@@ -1,8 +1,9 @@
-// Stage 4: rasterization of one tile. Walks the tile's triangles in submission order; for each,
-// visits the pixel centres of its bounding box inside the tile, evaluates the three edge
-// functions incrementally (exact int64 additions) and hands each row's runs of covered samples
-// to the fragment stage (FragmentStage::span; with `perFragment`, one fragment() call each, the
-// oracle of the span path's tests). The coverage rule is in setup.h.
+// Stage 4: rasterization of one tile. Walks the tile's triangles in submission order; for each
+// row of its bounding box inside the tile, the covered pixel centres are those where all three
+// edge functions (exact int64) pass the fill rule; each edge bounds them on one side, found by
+// exact integer division, so a row's coverage is one run, handed to the fragment stage
+// (FragmentStage::span; short runs and, with `perFragment`, every pixel one fragment() call
+// each, the oracle of the span path's tests). The coverage rule is in setup.h.
 #pragma once
 
 #include "pipeline/binning.h"
