@@ -36,25 +36,7 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
 
 void FragmentStage::beginTriangle(const SetupTriangle& t) {
   triangle_ = &t;
-  glm::dvec4 v[3];
-  for (int i = 0; i < 3; ++i) v[i] = glm::dvec4(geometry_->clipPositions[t.vertexIndex[i]]);
-  // M has columns (x_i, y_i, w_i); M⁻¹ = adj(M) / det(M).
-  const double m[3][3] = {{v[0].x, v[1].x, v[2].x}, {v[0].y, v[1].y, v[2].y}, {v[0].w, v[1].w, v[2].w}};
-  const double c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1], c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2],
-               c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
-  const double det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
-  degenerate_ = det == 0.0;
-  if (!degenerate_) {
-    const double r = 1.0 / det;
-    inverse_[0][0] = c00 * r, inverse_[1][0] = c01 * r, inverse_[2][0] = c02 * r;
-    inverse_[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * r;
-    inverse_[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * r;
-    inverse_[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * r;
-    inverse_[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * r;
-    inverse_[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * r;
-    inverse_[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * r;
-  }
-  for (int i = 0; i < 3; ++i) clipZ_[i] = v[i].z;
+  interpolation_ = &t.interpolation;
   const int n = geometry_->attributeCount;
   for (int i = 0; i < 3; ++i) {
     const float* a = geometry_->vertexAttributes(t.vertexIndex[i]);
@@ -93,7 +75,7 @@ void FragmentStage::fillInput(FragmentInput& in, int x, int y, double z, double 
 }
 
 void FragmentStage::fragment(int x, int y) {
-  if (degenerate_) return;
+  if (interpolation_->degenerate) return;
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
   double w, b[3], z;
   interpolate(x, yn, w, b[0], b[1], b[2], z);
@@ -104,7 +86,7 @@ void FragmentStage::fragment(int x, int y) {
 }
 
 void FragmentStage::span(int y, int x0, int x1) {
-  if (degenerate_) return;
+  if (interpolation_->degenerate) return;
   prefetchDepthRow(y + 2, x0, x1);
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
   for (int start = x0; start < x1; start += kBatch) {

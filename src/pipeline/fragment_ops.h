@@ -34,8 +34,14 @@ class FragmentStage {
   FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry,
                 const PixelRect& viewport);
 
-  // Prepares the original triangle's M⁻¹, clip z and attributes before its fragments arrive.
+  // Takes the triangle's interpolation set-up (M⁻¹, clip z: setup.h) and its vertices' attributes
+  // before its fragments arrive.
   void beginTriangle(const SetupTriangle& triangle);
+  // Asks for the memory that beginTriangle(triangle) will read (a hint; nothing changes).
+  void prefetchVertices(const SetupTriangle& triangle) const {
+    if (geometry_->attributeCount)
+      for (uint32_t v : triangle.vertexIndex) __builtin_prefetch(geometry_->vertexAttributes(v));
+  }
   // A covered pixel centre of the current triangle.
   void fragment(int x, int y);
   // A full-screen pass pixel: window depth 0, no attributes.
@@ -77,13 +83,15 @@ class FragmentStage {
   // exact): the same IEEE operations in every lane.
   template <typename D, typename X>
   void interpolate(X x, double yn, D& w, D& b0, D& b1, D& b2, D& z) const {
+    const double(&inverse)[3][3] = interpolation_->inverse;
+    const double* clipZ = interpolation_->clipZ;
     const D xn = D(x) * ndcScaleX_ + ndcOffsetX_;
-    const D k0 = inverse_[0][0] * xn + inverse_[0][1] * yn + inverse_[0][2];
-    const D k1 = inverse_[1][0] * xn + inverse_[1][1] * yn + inverse_[1][2];
-    const D k2 = inverse_[2][0] * xn + inverse_[2][1] * yn + inverse_[2][2];
+    const D k0 = inverse[0][0] * xn + inverse[0][1] * yn + inverse[0][2];
+    const D k1 = inverse[1][0] * xn + inverse[1][1] * yn + inverse[1][2];
+    const D k2 = inverse[2][0] * xn + inverse[2][1] * yn + inverse[2][2];
     w = 1.0 / (k0 + k1 + k2);  // P.w, the view depth
     b0 = k0 * w, b1 = k1 * w, b2 = k2 * w;
-    z = 0.5 * ((b0 * clipZ_[0] + b1 * clipZ_[1] + b2 * clipZ_[2]) / w) + 0.5;
+    z = 0.5 * ((b0 * clipZ[0] + b1 * clipZ[1] + b2 * clipZ[2]) / w) + 0.5;
   }
   // Blends the batch's surviving fragments (outputs_[batchOutput_[i]] at x = batchX_[i] on row y),
   // target by target.
@@ -97,9 +105,7 @@ class FragmentStage {
   const FragmentProgram& program_;
   const Geometry* geometry_;
   const SetupTriangle* triangle_ = nullptr;
-  double inverse_[3][3] = {};  // M⁻¹ of the current triangle
-  double clipZ_[3] = {};
-  bool degenerate_ = false;
+  const TriangleInterpolation* interpolation_ = nullptr;  // of the current triangle (setup.h)
   double ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_;
   int height_;  // the framebuffer's
   bool earlyTests_;

@@ -6,6 +6,7 @@ namespace oitref::detail {
 namespace {
 
 constexpr int kMinSpan = 4;
+constexpr uint32_t kAhead = 8;
 
 // ⌊a / b⌋ and ⌈a / b⌉ for b > 0 (C++ division truncates toward zero).
 int64_t floorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -16,7 +17,16 @@ int64_t ceilDiv(int64_t a, int64_t b) { return -floorDiv(-a, b); }
 void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, int subpixelBits, bool perFragment,
                    FragmentStage& stage) {
   const int64_t S = int64_t(1) << subpixelBits;
-  for (uint32_t k = bins.tileStart[size_t(tile)]; k < bins.tileStart[size_t(tile) + 1]; ++k) {
+  const uint32_t first = bins.tileStart[size_t(tile)], end = bins.tileStart[size_t(tile) + 1];
+  for (uint32_t k = first; k < end; ++k) {
+    // A tile's triangles lie far apart among all of the draw's (each tile takes a few of many
+    // small ones), too far for the hardware to guess: ask for the set-up triangle kAhead ahead,
+    // and for the vertices of the one half-way there, whose record has arrived by now.
+    if (k + kAhead < end) {
+      const char* ahead = reinterpret_cast<const char*>(&bins.triangle(bins.tileTriangles[k + kAhead]));
+      for (size_t b = 0; b < sizeof(SetupTriangle); b += 64) __builtin_prefetch(ahead + b);
+    }
+    if (k + kAhead / 2 < end) stage.prefetchVertices(bins.triangle(bins.tileTriangles[k + kAhead / 2]));
     const uint32_t id = bins.tileTriangles[k];
     const SetupTriangle& t = bins.triangle(id);
     const int x0 = std::max(r.x0, t.bounds.x0), x1 = std::min(r.x1, t.bounds.x1);

@@ -36,8 +36,8 @@ bool isInclusive(int64_t dx, int64_t dy, FillConvention fill) {
 }
 
 void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2, const uint32_t source[3],
-                  uint32_t primitiveId, const SetupContext& c, std::vector<SetupTriangle>& out,
-                  SetupCounters& counters) {
+                  uint32_t primitiveId, const TriangleInterpolation& interpolation, const SetupContext& c,
+                  std::vector<SetupTriangle>& out, SetupCounters& counters) {
   int64_t area2 = (v1->x - v0->x) * (v2->y - v0->y) - (v2->x - v0->x) * (v1->y - v0->y);
   if (area2 == 0) return;
   const bool counterClockwise = area2 > 0;
@@ -73,6 +73,7 @@ void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVe
   if (x0 >= x1 || y0 >= y1) return;
   t.bounds = {int(x0), int(y0), int(x1), int(y1)};
 
+  t.interpolation = interpolation;
   t.primitiveId = primitiveId;
   t.frontFacing = front;
   for (int k = 0; k < 3; ++k) t.vertexIndex[k] = source[k];
@@ -100,8 +101,33 @@ void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& cont
   if (n < 3) return;
   WindowVertex w[kMaxClipVertices];
   for (int i = 0; i < n; ++i) w[i] = toWindow(polygon[i], context);
+  const glm::dvec4 clip[3] = {in[0].position, in[1].position, in[2].position};
+  const TriangleInterpolation interpolation = interpolationOf(clip);
   for (int i = 1; i + 1 < n; ++i)
-    emitTriangle(&w[0], &w[i], &w[i + 1], source, uint32_t(t), context, out, counters);
+    emitTriangle(&w[0], &w[i], &w[i + 1], source, uint32_t(t), interpolation, context, out, counters);
+}
+
+TriangleInterpolation interpolationOf(const glm::dvec4 v[3]) {
+  TriangleInterpolation r;
+  // M has columns (x_i, y_i, w_i); M⁻¹ = adj(M) / det(M).
+  const double m[3][3] = {{v[0].x, v[1].x, v[2].x}, {v[0].y, v[1].y, v[2].y}, {v[0].w, v[1].w, v[2].w}};
+  const double c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1], c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2],
+               c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+  const double det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
+  r.degenerate = det == 0.0;
+  if (!r.degenerate) {
+    const double k = 1.0 / det;
+    double(&inv)[3][3] = r.inverse;
+    inv[0][0] = c00 * k, inv[1][0] = c01 * k, inv[2][0] = c02 * k;
+    inv[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * k;
+    inv[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * k;
+    inv[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * k;
+    inv[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * k;
+    inv[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * k;
+    inv[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * k;
+  }
+  for (int i = 0; i < 3; ++i) r.clipZ[i] = v[i].z;
+  return r;
 }
 
 }  // namespace oitref::detail

@@ -30,9 +30,20 @@ struct PixelRect {
   int x0, y0, x1, y1;  // inclusive-exclusive: [x0, x1) × [y0, y1)
 };
 
+// What interpolation needs of the original triangle (fragment_ops.h): M⁻¹ of the matrix whose
+// columns are its vertices' clip (x, y, w), and their clip z. Computed once per triangle here,
+// where its vertices are read in order, not in each tile it touches.
+struct TriangleInterpolation {
+  double inverse[3][3] = {};
+  double clipZ[3] = {};
+  bool degenerate = false;  // det M = 0: the triangle is seen edge-on and produces no fragments
+};
+TriangleInterpolation interpolationOf(const glm::dvec4 clip[3]);
+
 // What rasterization needs of one (possibly clipped) triangle. Interpolation goes back to the
 // original triangle through vertexIndex.
 struct SetupTriangle {
+  TriangleInterpolation interpolation;
   int64_t edgeA[3], edgeB[3], edgeC[3];
   PixelRect bounds;         // covered pixel range, clipped to the viewport
   uint32_t primitiveId;
