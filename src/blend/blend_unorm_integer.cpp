@@ -152,6 +152,10 @@ UI_INLINE void run(const UnormIntegerPlan& p, const glm::vec4& source, uint8_t* 
 }
 
 void general(const UnormIntegerPlan& plan, const glm::vec4& source, uint8_t* texel) { run(plan, source, texel); }
+template <UnormIntegerBlendFn Blend>
+void batchOf(const UnormIntegerPlan& plan, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+  for (int i = 0; i < n; ++i) Blend(plan, *sources[i], texels[i]);
+}
 
 // `run` for 8-bit layouts with every channel written, the four channels in vector lanes (32-bit
 // lanes hold a·b ≤ 255² exactly): factorInteger, equationInteger and mulUnormInteger lane by
@@ -223,14 +227,18 @@ struct CompiledEntry {
   BlendState state;
   int channels;
   UnormIntegerBlendFn fn;
+  UnormIntegerBatchFn batch;
 };
+template <BlendState State, int Channels>
+constexpr CompiledEntry entry() {
+  return {State, Channels, &compiled<State, Channels>, &batchOf<&compiled<State, Channels>>};
+}
 template <size_t... I>
 constexpr auto compiledTable(std::index_sequence<I...>) {
   using states::kMethodBlendStates;
-  return std::array<CompiledEntry, 3 * sizeof...(I)>{
-      CompiledEntry{kMethodBlendStates[I], 1, &compiled<kMethodBlendStates[I], 1>}...,
-      CompiledEntry{kMethodBlendStates[I], 2, &compiled<kMethodBlendStates[I], 2>}...,
-      CompiledEntry{kMethodBlendStates[I], 4, &compiled<kMethodBlendStates[I], 4>}...};
+  return std::array<CompiledEntry, 3 * sizeof...(I)>{entry<kMethodBlendStates[I], 1>()...,
+                                                      entry<kMethodBlendStates[I], 2>()...,
+                                                      entry<kMethodBlendStates[I], 4>()...};
 }
 constexpr auto kCompiled = compiledTable(std::make_index_sequence<std::size(states::kMethodBlendStates)>());
 
@@ -253,15 +261,27 @@ UnormIntegerPlan planUnormInteger(const Format& f, const BlendState& state, cons
   return p;
 }
 
-UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& p, bool specialised) {
+namespace {
+const CompiledEntry* compiledFor(const UnormIntegerPlan& p) {
   const bool eightBit = !p.rgb10a2 && p.bits[0] == 8 && p.writeMask == (1u << p.channels) - 1;
-  if (specialised && eightBit)
+  if (eightBit)
     for (const CompiledEntry& e : kCompiled)
       if (e.channels == p.channels && e.state.equationRgb == p.state.equationRgb &&
           e.state.equationAlpha == p.state.equationAlpha && e.state.srcRgb == p.state.srcRgb &&
           e.state.dstRgb == p.state.dstRgb && e.state.srcAlpha == p.state.srcAlpha && e.state.dstAlpha == p.state.dstAlpha)
-        return e.fn;
-  return general;
+        return &e;
+  return nullptr;
+}
+}  // namespace
+
+UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& p, bool specialised) {
+  const CompiledEntry* e = specialised ? compiledFor(p) : nullptr;
+  return e ? e->fn : general;
+}
+
+UnormIntegerBatchFn unormIntegerBatchFor(const UnormIntegerPlan& p, bool specialised) {
+  const CompiledEntry* e = specialised ? compiledFor(p) : nullptr;
+  return e ? e->batch : batchOf<general>;
 }
 
 void blendUnormInteger(const Format& f, const BlendState& state, const glm::vec4& constant, UnormRounding rounding,

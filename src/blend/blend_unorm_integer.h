@@ -53,6 +53,11 @@ using UnormIntegerBlendFn = void (*)(const UnormIntegerPlan&, const glm::vec4& s
 // The general function, or one compiled for the plan's blend state and 8-bit layout when the state
 // is a method blend state (method_blend_states.h): the same bits. `specialised` false: the general one.
 UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& plan, bool specialised = true);
+// The same over a batch: sources[i] into texels[i], i < n, one call (the per-texel function
+// inlined into the loop).
+using UnormIntegerBatchFn = void (*)(const UnormIntegerPlan&, const glm::vec4* const* sources, uint8_t* const* texels,
+                                     int n);
+UnormIntegerBatchFn unormIntegerBatchFor(const UnormIntegerPlan& plan, bool specialised = true);
 
 void blendUnormInteger(const Format& format, const BlendState& state, const glm::vec4& constant, UnormRounding rounding,
                        const glm::vec4& source, unsigned writeMask, uint8_t* texel);

@@ -102,7 +102,9 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
   else if (state.enabled && integer) {
     unormPlan_ = planUnormInteger(format, state, constant, profile.unorm, mask_);
     unormBlend_ = unormIntegerBlendFor(unormPlan_, allowFastPath);
-    use<integerUnormKernel>();
+    unormBatch_ = unormIntegerBatchFor(unormPlan_, allowFastPath);
+    kernel_ = integerUnormKernel;
+    batchKernel_ = integerUnormBatch;
   } else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) {
     llvmpipePlan_.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
     llvmpipePlan_.flushDenormals = flushDenormals_;
@@ -248,6 +250,10 @@ void TargetBlender::nvidiaKernel(const TargetBlender& b, const glm::vec4& source
 
 void TargetBlender::integerUnormKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
   b.unormBlend_(b.unormPlan_, source, texel);
+}
+void TargetBlender::integerUnormBatch(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels,
+                                      int n) {
+  b.unormBatch_(b.unormPlan_, sources, texels, n);
 }
 
 template <int Channels, int State>

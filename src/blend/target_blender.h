@@ -60,6 +60,7 @@ class TargetBlender {
   void useFastKernel(ChannelEncoding encoding, int channels, int stateIndex);
   static void genericKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void integerUnormKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  static void integerUnormBatch(const TargetBlender&, const glm::vec4* const*, uint8_t* const*, int);
   static void llvmpipeFloatKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <int Channels, bool Half> static void llvmpipeFloatTexelKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <int Channels, bool Half>
@@ -85,6 +86,7 @@ class TargetBlender {
   LlvmpipeFloatBlend8Fn llvmpipeBlend8_ = nullptr;
   UnormIntegerPlan unormPlan_;
   UnormIntegerBlendFn unormBlend_ = nullptr;
+  UnormIntegerBatchFn unormBatch_ = nullptr;
   Kernel kernel_;
   BatchKernel batchKernel_;
 };

@@ -213,24 +213,29 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
 DrawStats Renderer::drawFullscreen(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program) {
   fb.validate();
   const detail::SetupContext context = makeContext(fb, state);
-  const detail::TileGrid grid(options_.tileSize, context.vx, context.vy, context.vw, context.vh);
+  // Every pixel is one fragment that sees only its own pixel, so the order is free: bands of
+  // whole rows, which read and write the attachments as sequential streams the hardware
+  // prefetches (a 64-pixel tile's rows lie a page apart).
+  constexpr int kBandRows = 4;
+  const detail::PixelRect viewport = viewportRect(context);
+  const int bands = (context.vh + kBandRows - 1) / kBandRows;
   DrawStats stats;
   const auto t0 = std::chrono::steady_clock::now();
-  std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
+  std::vector<detail::FragmentCounters> perBand(static_cast<size_t>(bands));
   arena_->execute([&] {
-    workerParallelFor(size_t(grid.count()), [&](size_t tile) {
-      detail::FragmentStage stage(fb, state, program, nullptr, viewportRect(context));
-      const detail::PixelRect r = grid.tileRect(int(tile));
-      for (int y = r.y0; y < r.y1; ++y) {
+    workerParallelFor(size_t(bands), [&](size_t band) {
+      detail::FragmentStage stage(fb, state, program, nullptr, viewport);
+      const int y0 = context.vy + int(band) * kBandRows, y1 = std::min(y0 + kBandRows, context.vy + context.vh);
+      for (int y = y0; y < y1; ++y) {
         if (options_.perFragment)
-          for (int x = r.x0; x < r.x1; ++x) stage.fullscreenPixel(x, y);
+          for (int x = viewport.x0; x < viewport.x1; ++x) stage.fullscreenPixel(x, y);
         else
-          stage.fullscreenSpan(y, r.x0, r.x1);
+          stage.fullscreenSpan(y, viewport.x0, viewport.x1);
       }
-      perTile[tile] = stage.counters();
+      perBand[band] = stage.counters();
     });
   });
-  for (const auto& c : perTile) addCounters(stats, c);
+  for (const auto& c : perBand) addCounters(stats, c);
   stats.rasterMs = msSince(t0);
   return stats;
 }
