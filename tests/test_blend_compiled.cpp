@@ -68,10 +68,10 @@ TEST_CASE("blend: kernels compiled for the methods' blend states give the genera
   CHECK(compared == 12 * 4 * int(std::size(detail::states::kMethodBlendStates)) * 2 * 400);
 }
 
-// TargetBlender::blendBatch runs the llvmpipe float model eight lanes at a time (two rgba, four
-// rg or eight r pixels per call; AVX2) with the pixels left over one at a time: every batch size,
-// the methods' states (compiled kernels) and random states (the general eight-lane function),
-// against the per-fragment general kernel.
+// TargetBlender::blendBatch runs eight lanes at a time — the llvmpipe float model (two rgba, four
+// rg or eight r pixels per call; AVX2), the exact and llvmpipe-UNORM fast kernels (two pixels) —
+// with the pixels left over one at a time: every batch size, the methods' states (compiled
+// kernels) and random states (the general functions), against the per-fragment general kernel.
 TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "[blend]") {
   test::BitStream rng(77);
   std::vector<BlendState> states(std::begin(detail::states::kMethodBlendStates), std::end(detail::states::kMethodBlendStates));
@@ -80,10 +80,10 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
                                           BlendFactor(rng.next() % 15), BlendFactor(rng.next() % 15),
                                           BlendFactor(rng.next() % 15), BlendFactor(rng.next() % 15)));
   int compared = 0;
-  for (const char* name : {"rgba16f", "rg16f", "r16f", "rgba32f", "rg32f", "r32f"}) {
+  for (const char* name : {"rgba16f", "rg16f", "r16f", "rgba32f", "rg32f", "r32f", "rgba8", "rg8", "r8"}) {
     const Format f = parseFormat(name);
     const int bytes = f.bytesPerTexel();
-    for (const Profile& p : {llvmpipeProfile(), parseProfile("llvmpipe,fma=off")})
+    for (const Profile& p : {llvmpipeProfile(), parseProfile("llvmpipe,fma=off"), exactProfile()})
       for (const BlendState& state : states)
         for (bool smallFloatBound : {false, true}) {
           glm::vec4 constant;
@@ -95,10 +95,11 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
             std::vector<uint8_t> batched(size_t(n * bytes)), expected;
             for (glm::vec4& s : sources)
               for (int k = 0; k < 4; ++k) s[k] = interesting(rng);
-            for (int i = 0; i < n * bytes / 4; ++i) {  // fp32 channels, or two fp16 ones
+            for (int i = 0; i < n * bytes / 4; ++i) {  // fp32 channels, two fp16 ones or four UNORM8 ones
               const float v = interesting(rng);
               std::memcpy(&batched[size_t(4 * i)], &v, 4);
             }
+            for (int i = (n * bytes / 4) * 4; i < n * bytes; ++i) batched[size_t(i)] = uint8_t(rng.next());
             expected = batched;
             std::vector<const glm::vec4*> sourcePointers;
             std::vector<uint8_t*> texels;
@@ -117,5 +118,5 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
           }
         }
   }
-  CHECK(compared == 6 * 2 * int(states.size()) * 2 * 7);
+  CHECK(compared == 9 * 3 * int(states.size()) * 2 * 7);
 }

@@ -24,7 +24,7 @@ namespace {
 // Lanes: four (one pixel's channels, as `run` is called per fragment) or eight (LlvmpipeLanes8:
 // the channels of two to eight pixels side by side, the batch path). Every operation below is
 // per lane, and what depends on a pixel (its source and destination alpha) arrives as lanes, so
-// the bits of a lane do not depend on how many lanes travel together.
+// the bits of a lane do not depend on how many lanes travel together. (splatLanes: blend_math.h.)
 template <int N>
 struct LaneTypes {
   typedef float F __attribute__((vector_size(4 * N)));
@@ -34,10 +34,6 @@ template <typename V>
 constexpr int kLanes = int(sizeof(V) / sizeof(float));
 template <typename V>
 using IntLanes = typename LaneTypes<kLanes<V>>::I;
-template <typename V>
-LP_INLINE V splatLanes(float x) {
-  return V{} + x;
-}
 template <typename V>
 LP_INLINE V selectLanes(IntLanes<V> mask, V a, V b) {
   return mask ? a : b;

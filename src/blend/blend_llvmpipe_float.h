@@ -57,8 +57,6 @@ using LlvmpipeFloatBlendFn = v4f (*)(const LlvmpipeFloatPlan&, v4f constant, v4f
 // Eight lanes blended together: the channels of 8 / channels pixels side by side (rgba: two
 // pixels, rg: four, r: eight), with each lane's pixel's source, destination and constant alpha
 // beside them. Lane for lane the bits of LlvmpipeFloatBlendFn on each pixel.
-typedef float v8f __attribute__((vector_size(32)));
-typedef int32_t v8i __attribute__((vector_size(32)));
 struct LlvmpipeLanes8 {
   v8f source, destination, constant, sourceAlpha, destinationAlpha, constantAlpha;
 };

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include <glm/vec4.hpp>
 
@@ -39,13 +40,51 @@ inline glm::vec4 store4(v4f v) {
 inline v4f splat(float x) { return v4f{x, x, x, x}; }
 inline v4f select(v4i mask, v4f a, v4f b) { return mask ? a : b; }
 
+// Two pixels' four channels side by side (the batch kernels): the same per-lane operations.
+typedef float v8f __attribute__((vector_size(32)));
+typedef int32_t v8i __attribute__((vector_size(32)));
+inline v8f select(v8i mask, v8f a, v8f b) { return mask ? a : b; }
+template <typename V>
+using IntLanesOf = std::conditional_t<sizeof(V) == 16, v4i, v8i>;
+template <typename V>
+inline V splatLanes(float x) {
+  return V{} + x;
+}
+// Lane `L` of each pixel in all of that pixel's lanes.
+template <int L>
+inline v4f eachPixelLane(v4f v) {
+  return __builtin_shufflevector(v, v, L, L, L, L);
+}
+template <int L>
+inline v8f eachPixelLane(v8f v) {
+  return __builtin_shufflevector(v, v, L, L, L, L, L + 4, L + 4, L + 4, L + 4);
+}
+// A per-channel pattern (four lanes) for every pixel.
+inline v4i eachPixel(v4i p, v4i) { return p; }
+inline v8i eachPixel(v4i p, v8i) { return __builtin_shufflevector(p, p, 0, 1, 2, 3, 0, 1, 2, 3); }
+template <typename V>
+inline IntLanesOf<V> eachPixel(v4i p) {
+  return eachPixel(p, IntLanesOf<V>{});
+}
+inline v8f twoPixels(v4f a, v4f b) { return __builtin_shufflevector(a, b, 0, 1, 2, 3, 4, 5, 6, 7); }
+inline v4f pixelOf(v8f v, int p) {
+  return p == 0 ? __builtin_shufflevector(v, v, 0, 1, 2, 3) : __builtin_shufflevector(v, v, 4, 5, 6, 7);
+}
+
 // Clamp to [0,1] with NaN -> 0, as clampUnit: v > 0 ? (v < 1 ? v : 1) : 0.
-inline v4f clampUnit4(v4f v) { return select(v > 0.0f, select(v < 1.0f, v, splat(1.0f)), splat(0.0f)); }
+template <typename V>
+inline V clampUnitLanes(V v) {
+  return select(v > 0.0f, select(v < 1.0f, v, splatLanes<V>(1.0f)), splatLanes<V>(0.0f));
+}
+inline v4f clampUnit4(v4f v) { return clampUnitLanes(v); }
 inline glm::vec4 clampUnit4(const glm::vec4& v) { return store4(clampUnit4(load4(v))); }
 
 // NaN signs and payloads from arithmetic differ between CPUs (x86's default NaN is negative,
 // ARM's positive) and GL does not specify them: a NaN blend result is the canonical quiet NaN.
-inline v4f canonicalNan(v4f v) { return select(v != v, splat(__builtin_nanf("")), v); }
+template <typename V>
+inline V canonicalNan(V v) {
+  return select(v != v, splatLanes<V>(__builtin_nanf("")), v);
+}
 
 typedef double v4d __attribute__((vector_size(32)));
 
@@ -71,8 +110,14 @@ inline v4i encodeUnorm4(v4f v, int bits, UnormRounding rounding) {
 }
 
 // IEEE minNum/maxNum; on equality the source (first operand).
-inline v4f minNum(v4f s, v4f d) { return select(s != s, d, select(d != d, s, select(d < s, d, s))); }
-inline v4f maxNum(v4f s, v4f d) { return select(s != s, d, select(d != d, s, select(d > s, d, s))); }
+template <typename V>
+inline V minNum(V s, V d) {
+  return select(s != s, d, select(d != d, s, select(d < s, d, s)));
+}
+template <typename V>
+inline V maxNum(V s, V d) {
+  return select(s != s, d, select(d != d, s, select(d > s, d, s)));
+}
 
 struct CompiledBlend {
   // Lane l of the source factor is candidate row srcRow[l] of blend_factor.h (1 − it where
@@ -119,39 +164,43 @@ constexpr CompiledBlend compileBlend(const BlendState& st) {
 }
 
 // `c` must already be clamped for fixed-point targets (done once per draw by the callers).
-[[gnu::always_inline]] inline v4f blendValues(const CompiledBlend& cb, v4f s, v4f d, v4f c, bool fixedPoint,
-                                               bool targetHasAlpha) {
+// V = v4f: one pixel; v8f: two pixels, each lane the one-pixel operations (the batch kernels).
+template <typename V>
+[[gnu::always_inline]] inline V blendValues(const CompiledBlend& cb, V s, V d, V c, bool fixedPoint,
+                                             bool targetHasAlpha) {
+  using I = IntLanesOf<V>;
   if (fixedPoint) {
-    s = clampUnit4(s);
-    d = clampUnit4(d);
+    s = clampUnitLanes(s);
+    d = clampUnitLanes(d);
   }
-  const float ad = targetHasAlpha ? d[3] : 1.0f;
-  v4i sRowBits = v4i{0, 0, 0, 0}, dRowBits = v4i{0, 0, 0, 0};
-  auto take = [&](int k, v4f row) {
-    sRowBits |= (v4i)row & cb.srcLanes[k];
-    dRowBits |= (v4i)row & cb.dstLanes[k];
+  const V one = splatLanes<V>(1.0f);
+  const I alphaLanes = eachPixel<V>(v4i{0, 0, 0, -1});
+  const V ad = targetHasAlpha ? eachPixelLane<3>(d) : one;
+  I sRowBits{}, dRowBits{};
+  auto take = [&](int k, V row) {
+    sRowBits |= (I)row & eachPixel<V>(cb.srcLanes[k]);
+    dRowBits |= (I)row & eachPixel<V>(cb.dstLanes[k]);
   };
   if (cb.rowsUsed & (1u << 1)) take(1, s);
-  if (cb.rowsUsed & (1u << 2)) take(2, v4f{d[0], d[1], d[2], ad});
-  if (cb.rowsUsed & (1u << 3)) take(3, splat(s[3]));
-  if (cb.rowsUsed & (1u << 4)) take(4, splat(ad));
+  if (cb.rowsUsed & (1u << 2)) take(2, select(alphaLanes, ad, d));
+  if (cb.rowsUsed & (1u << 3)) take(3, eachPixelLane<3>(s));
+  if (cb.rowsUsed & (1u << 4)) take(4, ad);
   if (cb.rowsUsed & (1u << 5)) take(5, c);
-  if (cb.rowsUsed & (1u << 6)) take(6, splat(c[3]));
+  if (cb.rowsUsed & (1u << 6)) take(6, eachPixelLane<3>(c));
   if (cb.rowsUsed & (1u << 7)) {
-    const float oneMinusAd = 1.0f - ad;
-    const float f = s[3] < oneMinusAd ? s[3] : oneMinusAd;
-    take(7, v4f{f, f, f, 1.0f});
+    const V oneMinusAd = one - ad, sa = eachPixelLane<3>(s);
+    take(7, select(alphaLanes, one, select(sa < oneMinusAd, sa, oneMinusAd)));
   }
-  const v4f sRow = (v4f)sRowBits, dRow = (v4f)dRowBits;
-  const v4f one = splat(1.0f);
-  const v4f sf = select(cb.srcOneMinus, one - sRow, sRow);
-  const v4f df = select(cb.dstOneMinus, one - dRow, dRow);
-  const v4f a = (v4f)((v4i)(s * sf) ^ cb.negateSrc);
-  const v4f b = (v4f)((v4i)(d * df) ^ cb.negateDst);
-  v4f r = a + b;
-  if (cb.anyMinMax) r = select(cb.minLanes, minNum(s, d), select(cb.maxLanes, maxNum(s, d), r));
+  const V sRow = (V)sRowBits, dRow = (V)dRowBits;
+  const V sf = select(eachPixel<V>(cb.srcOneMinus), one - sRow, sRow);
+  const V df = select(eachPixel<V>(cb.dstOneMinus), one - dRow, dRow);
+  const V a = (V)((I)(s * sf) ^ eachPixel<V>(cb.negateSrc));
+  const V b = (V)((I)(d * df) ^ eachPixel<V>(cb.negateDst));
+  V r = a + b;
+  if (cb.anyMinMax)
+    r = select(eachPixel<V>(cb.minLanes), minNum(s, d), select(eachPixel<V>(cb.maxLanes), maxNum(s, d), r));
   r = canonicalNan(r);
-  return fixedPoint ? clampUnit4(r) : r;
+  return fixedPoint ? clampUnitLanes(r) : r;
 }
 
 }  // namespace oitref::detail

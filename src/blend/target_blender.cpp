@@ -41,6 +41,57 @@ inline v4f loadHalfTexel(const uint8_t* texel) {
   return v4f{decodeHalfInline(h[0]), decodeHalfInline(h[1]), decodeHalfInline(h[2]), decodeHalfInline(h[3])};
 #endif
 }
+// The fast kernels' texel layouts: how a destination is read into four fp32 lanes and the
+// result written back, as decodeTexel and encodeTexel do for these formats.
+struct Unorm8Texels {
+  static constexpr bool kFixedPoint = true;
+  template <int Channels>
+  static v4f load(const uint8_t* texel) {
+    float d[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    for (int c = 0; c < Channels; ++c) d[c] = kUnorm8Decode[texel[c]];
+    return v4f{d[0], d[1], d[2], d[3]};
+  }
+  template <int Channels>
+  static void store(const Profile& profile, v4f value, uint8_t* texel) {
+    const v4i codes = encodeUnorm4(value, 8, profile.unorm);
+    for (int c = 0; c < Channels; ++c) texel[c] = uint8_t(codes[c]);
+  }
+};
+struct HalfTexels {
+  static constexpr bool kFixedPoint = false;
+  template <int Channels>
+  static v4f load(const uint8_t* texel) {
+    return loadHalfTexel<Channels>(texel);
+  }
+  template <int Channels>
+  static void store(const Profile& profile, v4f value, uint8_t* texel) {
+    uint16_t h[4];
+#if defined(OITREF_HAVE_F16C)
+    const __m128 v = (__m128)value;
+    const __m128i packed = profile.fp16 == Rounding::TowardZero ? _mm_cvtps_ph(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
+                                                                : _mm_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(h), packed);
+#else
+    for (int c = 0; c < Channels; ++c) h[c] = encodeHalfInline(value[c], profile.fp16);
+#endif
+    std::memcpy(texel, h, 2 * Channels);
+  }
+};
+struct Float32Texels {
+  static constexpr bool kFixedPoint = false;
+  template <int Channels>
+  static v4f load(const uint8_t* texel) {
+    return loadFloatTexel<Channels>(texel);
+  }
+  template <int Channels>
+  static void store(const Profile&, v4f value, uint8_t* texel) {
+    for (int c = 0; c < Channels; ++c) {
+      const float v = value[c];
+      std::memcpy(texel + 4 * c, &v, 4);
+    }
+  }
+};
+
 }  // namespace
 
 template <int State>
@@ -65,24 +116,18 @@ void TargetBlender::useFastKernel(ChannelEncoding encoding, int channels, int st
   const int c = channels == 4 ? 2 : channels - 1;
   const size_t s = size_t(stateIndex + 1);
   auto pick = [&]<size_t... I>(std::index_sequence<I...>) {
-    static constexpr Kernel unorm[3][kStates] = {{unorm8Kernel<1, int(I) - 1>...}, {unorm8Kernel<2, int(I) - 1>...},
-                                                 {unorm8Kernel<4, int(I) - 1>...}};
-    static constexpr Kernel half[3][kStates] = {{halfKernel<1, int(I) - 1>...}, {halfKernel<2, int(I) - 1>...},
-                                                {halfKernel<4, int(I) - 1>...}};
-    static constexpr Kernel fp32[3][kStates] = {{float32Kernel<1, int(I) - 1>...}, {float32Kernel<2, int(I) - 1>...},
-                                                {float32Kernel<4, int(I) - 1>...}};
-    static constexpr BatchKernel unormBatch[3][kStates] = {{batchOf<unorm8Kernel<1, int(I) - 1>>...},
-                                                           {batchOf<unorm8Kernel<2, int(I) - 1>>...},
-                                                           {batchOf<unorm8Kernel<4, int(I) - 1>>...}};
-    static constexpr BatchKernel halfBatch[3][kStates] = {{batchOf<halfKernel<1, int(I) - 1>>...},
-                                                          {batchOf<halfKernel<2, int(I) - 1>>...},
-                                                          {batchOf<halfKernel<4, int(I) - 1>>...}};
-    static constexpr BatchKernel fp32Batch[3][kStates] = {{batchOf<float32Kernel<1, int(I) - 1>>...},
-                                                          {batchOf<float32Kernel<2, int(I) - 1>>...},
-                                                          {batchOf<float32Kernel<4, int(I) - 1>>...}};
-    if (encoding == ChannelEncoding::Unorm) kernel_ = unorm[c][s], batchKernel_ = unormBatch[c][s];
-    else if (encoding == ChannelEncoding::Half) kernel_ = half[c][s], batchKernel_ = halfBatch[c][s];
-    else kernel_ = fp32[c][s], batchKernel_ = fp32Batch[c][s];
+    auto table = [&]<typename Texels>() {
+      static constexpr Kernel kernels[3][kStates] = {{fastKernel<Texels, 1, int(I) - 1>...},
+                                                     {fastKernel<Texels, 2, int(I) - 1>...},
+                                                     {fastKernel<Texels, 4, int(I) - 1>...}};
+      static constexpr BatchKernel batches[3][kStates] = {{fastBatch<Texels, 1, int(I) - 1>...},
+                                                          {fastBatch<Texels, 2, int(I) - 1>...},
+                                                          {fastBatch<Texels, 4, int(I) - 1>...}};
+      kernel_ = kernels[c][s], batchKernel_ = batches[c][s];
+    };
+    if (encoding == ChannelEncoding::Unorm) table.template operator()<Unorm8Texels>();
+    else if (encoding == ChannelEncoding::Half) table.template operator()<HalfTexels>();
+    else table.template operator()<Float32Texels>();
   };
   pick(std::make_index_sequence<kStates>());
 }
@@ -256,45 +301,31 @@ void TargetBlender::integerUnormBatch(const TargetBlender& b, const glm::vec4* c
   b.unormBatch_(b.unormPlan_, sources, texels, n);
 }
 
-template <int Channels, int State>
-void TargetBlender::unorm8Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
+template <typename Texels, int Channels, int State>
+void TargetBlender::fastKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
   v4f result = load4(source);
+  if (enabled<State>(b))
+    result = blendValues(compiledBlend<State>(b), result, Texels::template load<Channels>(texel), load4(b.constant_),
+                         Texels::kFixedPoint, Channels == 4);
+  Texels::template store<Channels>(b.profile_, result, texel);
+}
+
+// fastKernel two pixels at a time: blendValues over eight lanes, each lane the operations of
+// the one-pixel kernel (so the same bits); an odd pixel alone.
+template <typename Texels, int Channels, int State>
+void TargetBlender::fastBatch(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+  int i = 0;
   if (enabled<State>(b)) {
-    float d[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-    for (int c = 0; c < Channels; ++c) d[c] = kUnorm8Decode[texel[c]];
-    result = blendValues(compiledBlend<State>(b), result, v4f{d[0], d[1], d[2], d[3]}, load4(b.constant_), true, Channels == 4);
+    const v8f constant = twoPixels(load4(b.constant_), load4(b.constant_));
+    for (; i + 2 <= n; i += 2) {
+      const v8f s = twoPixels(load4(*sources[i]), load4(*sources[i + 1]));
+      const v8f d = twoPixels(Texels::template load<Channels>(texels[i]), Texels::template load<Channels>(texels[i + 1]));
+      const v8f r = blendValues(compiledBlend<State>(b), s, d, constant, Texels::kFixedPoint, Channels == 4);
+      Texels::template store<Channels>(b.profile_, pixelOf(r, 0), texels[i]);
+      Texels::template store<Channels>(b.profile_, pixelOf(r, 1), texels[i + 1]);
+    }
   }
-  const v4i codes = encodeUnorm4(result, 8, b.profile_.unorm);
-  for (int c = 0; c < Channels; ++c) texel[c] = uint8_t(codes[c]);
-}
-
-template <int Channels, int State>
-void TargetBlender::halfKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  uint16_t h[4];
-  v4f result = load4(source);
-  if (enabled<State>(b))
-    result = blendValues(compiledBlend<State>(b), result, loadHalfTexel<Channels>(texel), load4(b.constant_), false, Channels == 4);
-#if defined(OITREF_HAVE_F16C)
-  const __m128 v = (__m128)result;
-  const __m128i packed = b.profile_.fp16 == Rounding::TowardZero
-                             ? _mm_cvtps_ph(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
-                             : _mm_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-  _mm_storel_epi64(reinterpret_cast<__m128i*>(h), packed);
-#else
-  for (int c = 0; c < Channels; ++c) h[c] = encodeHalfInline(result[c], b.profile_.fp16);
-#endif
-  std::memcpy(texel, h, 2 * Channels);
-}
-
-template <int Channels, int State>
-void TargetBlender::float32Kernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  v4f result = load4(source);
-  if (enabled<State>(b))
-    result = blendValues(compiledBlend<State>(b), result, loadFloatTexel<Channels>(texel), load4(b.constant_), false, Channels == 4);
-  for (int c = 0; c < Channels; ++c) {
-    const float v = result[c];
-    std::memcpy(texel + 4 * c, &v, 4);
-  }
+  for (; i < n; ++i) fastKernel<Texels, Channels, State>(b, *sources[i], texels[i]);
 }
 
 }  // namespace oitref::detail

@@ -51,9 +51,12 @@ class TargetBlender {
   // State: kRuntimeState blends with compiled_; an index into kMethodBlendStates, with that state
   // known when the kernel is compiled (its selects fold away; the same bits).
   static constexpr int kRuntimeState = -1;
-  template <int Channels, int State> static void unorm8Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
-  template <int Channels, int State> static void halfKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
-  template <int Channels, int State> static void float32Kernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  // The rgba8/rg8/r8, fp16 and fp32 kernels (Texels: the layout, target_blender.cpp), per pixel
+  // and over a batch two pixels at a time.
+  template <typename Texels, int Channels, int State>
+  static void fastKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
+  template <typename Texels, int Channels, int State>
+  static void fastBatch(const TargetBlender&, const glm::vec4* const*, uint8_t* const*, int);
   template <int State> static const CompiledBlend& compiledBlend(const TargetBlender& b);
   template <int State> static bool enabled(const TargetBlender& b);
   // The fast kernel for the format layout, compiled for the state when it is a method blend state.

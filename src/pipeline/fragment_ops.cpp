@@ -172,10 +172,11 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
     const int n = std::min(kBatch, x1 - start);
     counters_.rasterized += uint64_t(n);
     if (program_.batch) {
+      const bool depthTest = earlyDepthTest_ || earlyReject_;
       int count = 0;
       for (int i = 0; i < n; ++i) {
         fillInput(inputs_[count], start + i, y, 0.0, 1.0);
-        if (!earlyTest(inputs_[count], 0.0)) continue;
+        if (depthTest && !earlyTest(inputs_[count], 0.0)) continue;
         batchZ_[count++] = 0.0;
       }
       shadeAndBlendBatch(y, count);
