@@ -300,3 +300,46 @@ TEST_CASE("fragment ops: a pure program that may discard gives the late test's a
   CHECK(compared == 16);
   CHECK(fewer >= 8);  // LESS and LEQUAL reject early, with or without depth writes, on both paths
 }
+
+TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after another", "[fragment]") {
+  // Renderer::drawSequence runs every draw tile by tile; OVER does not commute, so the bytes are
+  // those of separate draw() calls only if each pixel still sees the draws in order. drawId
+  // reaches the shader (here it picks the colour), on the span and the per-fragment paths.
+  std::vector<Geometry> geometries;
+  for (uint32_t d = 0; d < 5; ++d) geometries.push_back(overlappingTriangles(40, 100 + d));
+  auto program = [](uint32_t drawId) {
+    return programOf([drawId](const FragmentInput& in, FragmentOutput& o) {
+      REQUIRE(in.drawId == drawId);
+      o.write(0, colorOf(in.primitiveId * 7 + drawId * 3));
+    });
+  };
+  for (bool perFragment : {false, true}) {
+    std::vector<uint8_t> bytes[2];
+    DrawStats stats[2];
+    for (int sequence = 0; sequence < 2; ++sequence) {
+      Renderer r(RendererOptions{3, 8, perFragment});
+      Image a(makeFormat(FormatId::RGBA16F), W, H);
+      a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+      DepthBuffer depth(DepthFormat::D24, W, H);
+      Framebuffer fb;
+      fb.color[0] = &a, fb.depth = &depth;
+      PipelineState st;
+      st.blend[0] = kOver;
+      st.depth = {true, CompareFunc::LEqual, false, false};
+      if (sequence) {
+        std::vector<Renderer::DrawCall> draws;
+        for (uint32_t d = 0; d < 5; ++d) draws.push_back({&geometries[d], program(10 + d), 10 + d});
+        stats[1] = r.drawSequence(fb, st, draws);
+      } else {
+        for (uint32_t d = 0; d < 5; ++d)
+          stats[0] += r.drawSequence(fb, st, {Renderer::DrawCall{&geometries[d], program(10 + d), 10 + d}});
+      }
+      bytes[sequence] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
+    }
+    INFO("per fragment " << perFragment);
+    CHECK(bytes[0] == bytes[1]);
+    CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+    CHECK(stats[0].trianglesRasterized == stats[1].trianglesRasterized);
+    CHECK(stats[1].fragmentsWritten > 0);
+  }
+}

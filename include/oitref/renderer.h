@@ -70,6 +70,17 @@ class Renderer {
   const RendererOptions& options() const { return options_; }
 
   DrawStats draw(Framebuffer& fb, const PipelineState& state, const Geometry& geometry, const FragmentProgram& program);
+  // Several draws into one framebuffer with one state, in order: the same bits as calling draw()
+  // for each (every pixel still sees the draws' fragments in draw order, then primitive order),
+  // but each tile runs all of them while its attachments are in cache — as a tiling GPU or
+  // llvmpipe bins a frame's draws — instead of each draw sweeping the whole framebuffer.
+  // FragmentInput::drawId is each draw's drawId. Returns the draws' statistics summed.
+  struct DrawCall {
+    const Geometry* geometry = nullptr;
+    FragmentProgram program;
+    uint32_t drawId = 0;
+  };
+  DrawStats drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws);
   // One fragment per pixel of the viewport, at window depth 0, with no attributes, through the
   // same fragment operations (depth test if enabled, blending, write masks).
   DrawStats drawFullscreen(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program);

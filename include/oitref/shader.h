@@ -25,6 +25,7 @@ struct FragmentInput {
   float viewDepth = 0;       // clip w interpolated perspective-correctly (= −z_eye for a perspective camera)
   bool frontFacing = true;   // gl_FrontFacing
   uint32_t primitiveId = 0;  // gl_PrimitiveID: the triangle's index in its draw
+  uint32_t drawId = 0;       // the draw's Renderer::DrawCall::drawId (0 for draw() and full-screen passes)
   const float* attributes = nullptr;  // perspective-correct interpolated attributes
   int attributeCount = 0;
 

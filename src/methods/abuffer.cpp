@@ -84,7 +84,7 @@ class Abuffer final : public Method {
     std::vector<uint32_t> filled(pixels, 0);
     run.transparentPass("store", depthOnly, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput&) {
       const size_t p = size_t(in.y) * w + in.x;
-      fragments[start[p] + filled[p]++] = {in.depth, in.viewDepth, c, uint32_t(run.currentObject()), in.primitiveId};
+      fragments[start[p] + filled[p]++] = {in.depth, in.viewDepth, c, in.drawId, in.primitiveId};
     });
 
     const bool useDouble = useDouble_;

@@ -91,16 +91,18 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
   st.profile = context_.profile;
   st.depth = {true, CompareFunc::Less, true, false};
   PassReport report{"opaque", 0, {}};
+  std::vector<Renderer::DrawCall> draws;
   for (const ScenePart& part : context_.geometry.parts) {
     if (part.transparent && !everything) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
-    report.stats += context_.renderer.draw(fb, st, clipGeometry(part),
-                                           programOf([&object](const FragmentInput& in, FragmentOutput& out) {
-                                             const glm::vec4 c = shadeSurface(object, in.attributes);
-                                             out.write(0, glm::vec4(glm::vec3(c), 1.0f));
-                                             out.write(1, glm::vec4(glm::vec3(c), 1.0f));
-                                           }));
+    draws.push_back({&clipGeometry(part), programOf([&object](const FragmentInput& in, FragmentOutput& out) {
+                       const glm::vec4 c = shadeSurface(object, in.attributes);
+                       out.write(0, glm::vec4(glm::vec3(c), 1.0f));
+                       out.write(1, glm::vec4(glm::vec3(c), 1.0f));
+                     }),
+                     uint32_t(part.objectIndex)});
   }
+  report.stats = context_.renderer.drawSequence(fb, st, draws);
   report.ms = msSince(t0);
   result_.passes.push_back(report);
 }
@@ -118,12 +120,13 @@ void PassRunner::drawTransparent(const std::string& name, Framebuffer& fb, const
                                  const std::function<FragmentProgram(const SceneObject&)>& programFor) {
   const auto t0 = std::chrono::steady_clock::now();
   PassReport report{name, 0, {}};
+  std::vector<Renderer::DrawCall> draws;
   for (const ScenePart& part : context_.geometry.parts) {
     if (!part.transparent) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
-    currentObject_ = part.objectIndex;
-    report.stats += context_.renderer.draw(fb, state, clipGeometry(part), programFor(object));
+    draws.push_back({&clipGeometry(part), programFor(object), uint32_t(part.objectIndex)});
   }
+  report.stats = context_.renderer.drawSequence(fb, state, draws);
   report.ms = msSince(t0);
   result_.passes.push_back(report);
 }

@@ -71,7 +71,8 @@ class PassRunner {
   // Clears opaque (and the analysis copy) to the background and depth to 1, then draws the
   // opaque objects (every object when `everything`) with depth test LESS and writes; alpha 1.
   void opaquePass(FrameTargets& targets, bool everything = false);
-  // Draws the transparent objects in submission order into fb with `state`; the shader,
+  // Draws the transparent objects in submission order into fb with `state` (one draw sequence:
+  // Renderer::drawSequence; FragmentInput::drawId is the object's index in the scene); the shader,
   // shader(const FragmentInput&, const glm::vec4& color, FragmentOutput&), gets each fragment's
   // straight colour from the object's shading function (shadeSurface, shared with the ray caster).
   // A template so that the method's shader is compiled into the fragment program (programOf): one
@@ -110,8 +111,6 @@ class PassRunner {
       return program;
     });
   }
-  // Index (in the scene) of the object whose triangles are being drawn.
-  size_t currentObject() const { return currentObject_; }
   // The part's vertices through the vertex stage (toClipGeometry), computed once per frame: every
   // pass of a frame draws the same clip-space geometry (peeling draws it once per layer).
   const Geometry& clipGeometry(const ScenePart& part);
@@ -152,7 +151,6 @@ class PassRunner {
                        const std::function<FragmentProgram(const SceneObject&)>& programFor);
   PipelineState compositeState() const;  // compositeBlend() on both presented targets
 
-  size_t currentObject_ = 0;
   std::vector<std::unique_ptr<Geometry>> clipGeometry_;  // per part of context_.geometry, on first use
 };
 

@@ -86,7 +86,7 @@ class Stochastic final : public Method {
       fb.depth = &d;
       run.transparentPass("stochastic depth " + std::to_string(s), fb, solid,
                           [&, s](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
-                            const uint32_t mask = stochasticMask(seed, in.x, in.y, uint32_t(run.currentObject()),
+                            const uint32_t mask = stochasticMask(seed, in.x, in.y, in.drawId,
                                                                  in.primitiveId, c.a, samples);
                             if (!(mask >> s & 1u)) out.discard();
                           },

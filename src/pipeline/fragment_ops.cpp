@@ -6,8 +6,8 @@
 namespace oitref::detail {
 
 FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program,
-                             const Geometry* geometry, const PixelRect& viewport)
-    : fb_(fb), state_(state), program_(program), geometry_(geometry) {
+                             const Geometry* geometry, const PixelRect& viewport, uint32_t drawId)
+    : fb_(fb), state_(state), program_(program), geometry_(geometry), drawId_(drawId) {
   height_ = fb.height();
   earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
   earlyDepthTest_ = earlyTests_ && fb.depth != nullptr && state.depth.testEnabled;
@@ -70,6 +70,7 @@ void FragmentStage::fillInput(FragmentInput& in, int x, int y, double z, double 
   in.viewDepth = float(w);
   in.frontFacing = triangle_ ? triangle_->frontFacing : true;
   in.primitiveId = triangle_ ? triangle_->primitiveId : 0;
+  in.drawId = drawId_;
   in.attributes = attributes_.data();
   in.attributeCount = int(attributes_.size());
 }

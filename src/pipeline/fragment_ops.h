@@ -32,7 +32,7 @@ class FragmentStage {
  public:
   // `viewport` maps pixel centres to NDC: x_n = 2(x + ½ − vx)/vw − 1, likewise y.
   FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry,
-                const PixelRect& viewport);
+                const PixelRect& viewport, uint32_t drawId = 0);
 
   // Takes the triangle's interpolation set-up (M⁻¹, clip z: setup.h) and its vertices' attributes
   // before its fragments arrive.
@@ -105,6 +105,7 @@ class FragmentStage {
   const FragmentProgram& program_;
   const Geometry* geometry_;
   const SetupTriangle* triangle_ = nullptr;
+  uint32_t drawId_;
   const TriangleInterpolation* interpolation_ = nullptr;  // of the current triangle (setup.h)
   double ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_;
   int height_;  // the framebuffer's

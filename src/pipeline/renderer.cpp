@@ -130,7 +130,7 @@ void Framebuffer::validate() const {
 // `threads` std::threads per parallel-for (see workerParallelFor above).
 struct Renderer::Arena {
   int threads;
-  detail::BinnedTriangles bins;  // reused between draws
+  std::vector<detail::BinnedTriangles> bins;  // one per draw of a sequence, reused between draws
   explicit Arena(int t) : threads(t) {}
   template <typename F>
   void execute(F&& f) {
@@ -146,7 +146,7 @@ struct Renderer::Arena {
 struct Renderer::Arena {
   std::optional<tbb::global_control> oversubscribe;
   tbb::task_arena arena;
-  detail::BinnedTriangles bins;  // reused between draws
+  std::vector<detail::BinnedTriangles> bins;  // one per draw of a sequence, reused between draws
   explicit Arena(int threads)
       : oversubscribe(threads > int(tbb::this_task_arena::max_concurrency())
                           ? std::optional<tbb::global_control>(std::in_place, tbb::global_control::max_allowed_parallelism,
@@ -178,31 +178,44 @@ void Renderer::parallelFor(size_t n, const std::function<void(size_t)>& body) {
 
 DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geometry& geometry,
                          const FragmentProgram& program) {
+  return drawSequence(fb, state, {DrawCall{&geometry, program, 0}});
+}
+
+DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws) {
   fb.validate();
-  geometry.validate();
+  for (const DrawCall& d : draws) d.geometry->validate();
   const detail::SetupContext context = makeContext(fb, state);
   const detail::TileGrid grid(options_.tileSize, context.vx, context.vy, context.vw, context.vh);
   DrawStats stats;
-  stats.trianglesSubmitted = geometry.triangleCount();
-
   auto t0 = std::chrono::steady_clock::now();
-  detail::BinnedTriangles& bins = arena_->bins;
+  std::vector<detail::BinnedTriangles>& bins = arena_->bins;
+  if (bins.size() < draws.size()) bins.resize(draws.size());
   arena_->execute([&] {
-    detail::setupAndBin(geometry, context, grid, bins, [](size_t n, auto&& body) { workerParallelFor(n, body); });
+    for (size_t d = 0; d < draws.size(); ++d) {
+      stats.trianglesSubmitted += draws[d].geometry->triangleCount();
+      detail::setupAndBin(*draws[d].geometry, context, grid, bins[d], [](size_t n, auto&& body) { workerParallelFor(n, body); });
+      stats.trianglesRasterized += bins[d].counters.rasterized;
+      stats.trianglesNonFinite += bins[d].counters.nonFinite;
+    }
   });
-  stats.trianglesRasterized = bins.counters.rasterized;
-  stats.trianglesNonFinite = bins.counters.nonFinite;
   stats.setupMs = msSince(t0);
 
   t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->execute([&] {
     workerParallelFor(size_t(grid.count()), [&](size_t tile) {
-      if (bins.tileStart[tile] == bins.tileStart[tile + 1]) return;
-      detail::FragmentStage stage(fb, state, program, &geometry, viewportRect(context));
-      detail::rasterizeTile(bins, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, options_.perFragment,
-                            stage);
-      perTile[tile] = stage.counters();
+      for (size_t d = 0; d < draws.size(); ++d) {
+        const detail::BinnedTriangles& b = bins[d];
+        if (b.tileStart[tile] == b.tileStart[tile + 1]) continue;
+        detail::FragmentStage stage(fb, state, draws[d].program, draws[d].geometry, viewportRect(context),
+                                    draws[d].drawId);
+        detail::rasterizeTile(b, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, options_.perFragment,
+                              stage);
+        detail::FragmentCounters& c = perTile[tile];
+        const detail::FragmentCounters& s = stage.counters();
+        c.rasterized += s.rasterized, c.shaded += s.shaded, c.depthFailed += s.depthFailed;
+        c.discarded += s.discarded, c.written += s.written;
+      }
     });
   });
   for (const auto& c : perTile) addCounters(stats, c);
