@@ -7,13 +7,8 @@ namespace oitref::detail {
 
 FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program,
                              const Geometry* geometry, const PixelRect& viewport, uint32_t drawId)
-    : fb_(fb), state_(state), program_(program), geometry_(geometry), drawId_(drawId) {
+    : fb_(fb), state_(state) {
   height_ = fb.height();
-  earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
-  earlyDepthTest_ = earlyTests_ && fb.depth != nullptr && state.depth.testEnabled;
-  earlyReject_ = !earlyTests_ && program.pure && !program.writesDepth && fb.depth != nullptr && state.depth.testEnabled;
-  if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb.depth->format(), state.depth.func, state.depth.writeMask);
-  if (earlyReject_) depthBatchTest_ = depthBatchTest(fb.depth->format(), state.depth.func, false);
   blenders_.reserve(kMaxColorTargets);
   bool smallFloatBound = false;  // llvmpipe keeps denormals for the whole draw then
   for (int t = 0; t < kMaxColorTargets; ++t)
@@ -23,15 +18,29 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
     blenders_.emplace_back(fb.color[size_t(t)] ? fb.color[size_t(t)]->format() : Format{}, state.blend[size_t(t)],
                            state.blendConstant, state.profile, true, smallFloatBound);
   }
-  const int n = geometry ? geometry->attributeCount : 0;
-  vertexAttributes_.assign(size_t(3 * n), 0.0);
-  attributes_.assign(size_t(n), 0.0f);
   outputs_.resize(kBatch);
-  batchAttributes_.assign(size_t(kBatch * n), 0.0f);
   // x_n = (x + ½ − vx)·(2/vw) − 1
   const double vw = viewport.x1 - viewport.x0, vh = viewport.y1 - viewport.y0;
   ndcScaleX_ = 2.0 / vw, ndcOffsetX_ = (0.5 - viewport.x0) * (2.0 / vw) - 1.0;
   ndcScaleY_ = 2.0 / vh, ndcOffsetY_ = (0.5 - viewport.y0) * (2.0 / vh) - 1.0;
+  beginDraw(program, geometry, drawId);
+}
+
+void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* geometry, uint32_t drawId) {
+  program_ = &program;
+  geometry_ = geometry;
+  drawId_ = drawId;
+  triangle_ = nullptr;
+  const DepthState& depth = state_.depth;
+  earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
+  earlyDepthTest_ = earlyTests_ && fb_.depth != nullptr && depth.testEnabled;
+  earlyReject_ = !earlyTests_ && program.pure && !program.writesDepth && fb_.depth != nullptr && depth.testEnabled;
+  if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, depth.writeMask);
+  if (earlyReject_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, false);
+  const size_t n = size_t(geometry ? geometry->attributeCount : 0);
+  vertexAttributes_.assign(3 * n, 0.0);
+  attributes_.assign(n, 0.0f);
+  batchAttributes_.assign(size_t(kBatch) * n, 0.0f);
 }
 
 void FragmentStage::beginTriangle(const SetupTriangle& t) {
@@ -112,7 +121,7 @@ void FragmentStage::span(int y, int x0, int x1) {
     } else {
       for (int i = 0; i < n; ++i) alive[i] = i;
     }
-    if (program_.batch) {
+    if (program_->batch) {
       // The survivors' barycentrics side by side, so that each attribute is interpolated over all
       // of them in one loop (interpolateAttributes' expression per lane).
       double c0[kBatch], c1[kBatch], c2[kBatch];
@@ -157,7 +166,7 @@ void FragmentStage::prefetchDepthRow(int y, int x0, int x1) const {
 
 void FragmentStage::shadeAndBlendBatch(int y, int count) {
   for (int i = 0; i < count; ++i) outputs_[size_t(i)].reset();
-  program_.batch(inputs_, outputs_.data(), count);
+  program_->batch(inputs_, outputs_.data(), count);
   counters_.shaded += uint64_t(count);
   int alive = 0;
   for (int i = 0; i < count; ++i)
@@ -172,7 +181,7 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
   for (int start = x0; start < x1; start += kBatch) {
     const int n = std::min(kBatch, x1 - start);
     counters_.rasterized += uint64_t(n);
-    if (program_.batch) {
+    if (program_->batch) {
       const bool depthTest = earlyDepthTest_ || earlyReject_;
       int count = 0;
       for (int i = 0; i < n; ++i) {
@@ -270,7 +279,7 @@ bool FragmentStage::shade(FragmentInput& in, double z, const double* perspective
   if (!earlyTestDone && !earlyTest(in, z)) return false;
   if (perspectiveBary) interpolateAttributes(perspectiveBary, attributes_.data());
   out.reset();
-  program_.shader(in, out);
+  program_->shader(in, out);
   ++counters_.shaded;
   return afterShader(in, z, out);
 }

@@ -34,6 +34,9 @@ class FragmentStage {
   FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry,
                 const PixelRect& viewport, uint32_t drawId = 0);
 
+  // The next draw of a sequence with the same framebuffer and state (Renderer::drawSequence):
+  // its program, geometry and id; the blenders and counters carry over.
+  void beginDraw(const FragmentProgram& program, const Geometry* geometry, uint32_t drawId);
   // Takes the triangle's interpolation set-up (M⁻¹, clip z: setup.h) and its vertices' attributes
   // before its fragments arrive.
   void beginTriangle(const SetupTriangle& triangle);
@@ -67,7 +70,7 @@ class FragmentStage {
   // one), and whether the fragment wrote a bound output, which makes it reach blending.
   bool afterShader(const FragmentInput& in, double z, const FragmentOutput& out);
   // The batch path: inputs_[0, count) of row y with window depths batchZ_, early-tested already,
-  // shaded by one program_.batch call, then afterShader and blending.
+  // shaded by one program_->batch call, then afterShader and blending.
   void shadeAndBlendBatch(int y, int count);
   // a = Σ b_i a_i, rounded once to fp32 (the header comment), for one fragment's attributes, or
   // for `count` fragments' (out[j·attributeCount + k]) one attribute at a time.
@@ -102,10 +105,10 @@ class FragmentStage {
 
   Framebuffer& fb_;
   const PipelineState& state_;
-  const FragmentProgram& program_;
+  const FragmentProgram* program_;
   const Geometry* geometry_;
   const SetupTriangle* triangle_ = nullptr;
-  uint32_t drawId_;
+  uint32_t drawId_ = 0;
   const TriangleInterpolation* interpolation_ = nullptr;  // of the current triangle (setup.h)
   double ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_;
   int height_;  // the framebuffer's

@@ -204,18 +204,16 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->execute([&] {
     workerParallelFor(size_t(grid.count()), [&](size_t tile) {
+      std::optional<detail::FragmentStage> stage;  // made for the tile's first draw, kept for the rest
       for (size_t d = 0; d < draws.size(); ++d) {
         const detail::BinnedTriangles& b = bins[d];
         if (b.tileStart[tile] == b.tileStart[tile + 1]) continue;
-        detail::FragmentStage stage(fb, state, draws[d].program, draws[d].geometry, viewportRect(context),
-                                    draws[d].drawId);
+        if (!stage) stage.emplace(fb, state, draws[d].program, draws[d].geometry, viewportRect(context), draws[d].drawId);
+        else stage->beginDraw(draws[d].program, draws[d].geometry, draws[d].drawId);
         detail::rasterizeTile(b, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, options_.perFragment,
-                              stage);
-        detail::FragmentCounters& c = perTile[tile];
-        const detail::FragmentCounters& s = stage.counters();
-        c.rasterized += s.rasterized, c.shaded += s.shaded, c.depthFailed += s.depthFailed;
-        c.discarded += s.discarded, c.written += s.written;
+                              *stage);
       }
+      if (stage) perTile[tile] = stage->counters();
     });
   });
   for (const auto& c : perTile) addCounters(stats, c);
