@@ -169,11 +169,25 @@ void FragmentStage::shadeAndBlendBatch(int y, int count) {
   program_->batch(inputs_, outputs_.data(), count);
   counters_.shaded += uint64_t(count);
   int alive = 0;
-  for (int i = 0; i < count; ++i)
-    if (afterShader(inputs_[i], batchZ_[i], outputs_[size_t(i)])) {
+  if (earlyTests_) {
+    // afterShader with the depth test done: discard, and whether a bound output was written.
+    uint64_t discarded = 0;
+    for (int i = 0; i < count; ++i) {
+      const FragmentOutput& out = outputs_[size_t(i)];
+      discarded += out.discarded();
+      if (out.discarded() || !(out.writtenMask() & boundTargets_)) continue;
       batchX_[alive] = inputs_[i].x;
       batchOutput_[alive++] = i;
     }
+    counters_.discarded += discarded;
+    counters_.written += uint64_t(alive);
+  } else {
+    for (int i = 0; i < count; ++i)
+      if (afterShader(inputs_[i], batchZ_[i], outputs_[size_t(i)])) {
+        batchX_[alive] = inputs_[i].x;
+        batchOutput_[alive++] = i;
+      }
+  }
   blendBatch(y, alive);
 }
 
@@ -213,12 +227,15 @@ void FragmentStage::blendBatch(int y, int count) {
     const int t = __builtin_ctz(targets);
     targets &= targets - 1;
     Image& image = *fb_.color[size_t(t)];
+    uint8_t* row = image.texel(0, y);
+    const size_t bytes = image.bytesPerTexel();
     int n = 0;
-    for (int i = 0; i < count; ++i)
-      if (outputs_[size_t(batchOutput_[i])].writtenMask() & (1u << t)) {
-        sources[n] = &outputs_[size_t(batchOutput_[i])].color(t);
-        texels[n++] = image.texel(batchX_[i], y);
-      }
+    for (int i = 0; i < count; ++i) {
+      const FragmentOutput& out = outputs_[size_t(batchOutput_[i])];
+      sources[n] = &out.color(t);
+      texels[n] = row + size_t(batchX_[i]) * bytes;
+      n += (out.writtenMask() >> t) & 1u;
+    }
     if (n) blenders_[size_t(t)].blendBatch(sources, texels, n);
   }
 }
