@@ -156,11 +156,18 @@ class Mboit final : public Method {
         clear[i] = b0 < 0.00100050033f;
         exponent[i] = 0.0;
         if (clear[i]) continue;
-        float stored[8] = {};
         float* b = moments + size_t(n) * size_t(reals);
-        loadMoments(in[i].x, in[i].y, stored);
-        if (quantised) dequantiseMoments(set, stored, b);
-        else for (int k = 0; k < reals; ++k) b[k] = stored[k] / b0;
+        if (quantised) {
+          float stored[8] = {};
+          loadMoments(in[i].x, in[i].y, stored);
+          dequantiseMoments(set, stored, b);
+        } else {
+          // Straight from the fetched texels: through an array written lane by lane and read
+          // whole, the divisions waited for the stores (no store forwarding).
+          const glm::vec4 lo = momentImages[0]->fetch(in[i].x, in[i].y);
+          const glm::vec4 hi = momentImages[1] ? momentImages[1]->fetch(in[i].x, in[i].y) : glm::vec4(0.0f);
+          for (int k = 0; k < reals; ++k) b[k] = (k < 4 ? lo[k] : hi[k - 4]) / b0;
+        }
         depths[n] = warp(in[i]);
         b0s[n] = b0;
         used[n++] = i;
