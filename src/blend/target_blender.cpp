@@ -314,8 +314,12 @@ void TargetBlender::fastKernel(const TargetBlender& b, const glm::vec4& source, 
 // the one-pixel kernel (so the same bits); an odd pixel alone.
 template <typename Texels, int Channels, int State>
 void TargetBlender::fastBatch(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+  if (!enabled<State>(b)) {  // the conversion alone, as fastKernel does then
+    for (int i = 0; i < n; ++i) Texels::template store<Channels>(b.profile_, load4(*sources[i]), texels[i]);
+    return;
+  }
   int i = 0;
-  if (enabled<State>(b)) {
+  {
     const v8f constant = twoPixels(load4(b.constant_), load4(b.constant_));
     for (; i + 2 <= n; i += 2) {
       const v8f s = twoPixels(load4(*sources[i]), load4(*sources[i + 1]));
