@@ -113,14 +113,14 @@ inline auto depthTestPassesAs(U fragment, U stored) {
                                                 : fragment < stored;
   const auto equal = Format == DepthFormat::D32F ? std::bit_cast<Float>(fragment) == std::bit_cast<Float>(stored)
                                                  : fragment == stored;
-  if constexpr (Func == CompareFunc::Never) return less & lanes::negate(less);
+  if constexpr (Func == CompareFunc::Never) return lanes::both(less, lanes::negate(less));
   else if constexpr (Func == CompareFunc::Less) return less;
   else if constexpr (Func == CompareFunc::Equal) return equal;
-  else if constexpr (Func == CompareFunc::LEqual) return less | equal;
-  else if constexpr (Func == CompareFunc::Greater) return lanes::negate(less) & lanes::negate(equal);
+  else if constexpr (Func == CompareFunc::LEqual) return lanes::either(less, equal);
+  else if constexpr (Func == CompareFunc::Greater) return lanes::both(lanes::negate(less), lanes::negate(equal));
   else if constexpr (Func == CompareFunc::NotEqual) return lanes::negate(equal);
   else if constexpr (Func == CompareFunc::GEqual) return lanes::negate(less);
-  else return less | lanes::negate(less);  // Always
+  else return lanes::either(less, lanes::negate(less));  // Always
 }
 
 inline bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format) {

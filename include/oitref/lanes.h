@@ -45,6 +45,18 @@ inline T splat(double v) {
   else return T(v);
 }
 
+// Logical and / or of comparisons' results: && and || on bools, & and | on −1/0 lanes.
+template <typename M>
+inline M both(M a, M b) {
+  if constexpr (isVector<M>) return a & b;
+  else return a && b;
+}
+template <typename M>
+inline M either(M a, M b) {
+  if constexpr (isVector<M>) return a | b;
+  else return a || b;
+}
+
 // Logical not of a comparison's result: !b, or ~m of −1/0 lanes.
 template <typename M>
 inline M negate(M m) {

@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "methods/det_math.h"
+#include "oitref/lanes.h"
 
 namespace oitref::methods {
 
@@ -242,7 +243,7 @@ F fourPowerMomentAbsorbance(const F* m, F z, float overestimation, MaskOf<F>& ok
   const F disc = p * p * 0.25f - q;
   const F r = sqrtF(disc);
   const F z1 = -p * 0.5f - r, z2 = -p * 0.5f + r;
-  ok = pivot1 & pivot2 & finiteF(z1) & finiteF(z2);
+  ok = lanes::both(lanes::both(pivot1, pivot2), lanes::both(finiteF(z1), finiteF(z2)));
   // Newton form of the quadratic through (z, f0), (z1, f1), (z2, f2).
   const F one = splatF<F>(1.0f), zero = splatF<F>(0.0f);
   const F f0 = splatF<F>(overestimation), f1 = selectF(z1 < z, one, zero), f2 = selectF(z2 < z, one, zero);
