@@ -24,20 +24,10 @@ namespace {
 // Lanes: four (one pixel's channels, as `run` is called per fragment) or eight (LlvmpipeLanes8:
 // the channels of two to eight pixels side by side, the batch path). Every operation below is
 // per lane, and what depends on a pixel (its source and destination alpha) arrives as lanes, so
-// the bits of a lane do not depend on how many lanes travel together. (splatLanes: blend_math.h.)
-template <int N>
-struct LaneTypes {
-  typedef float F __attribute__((vector_size(4 * N)));
-  typedef int32_t I __attribute__((vector_size(4 * N)));
-};
+// the bits of a lane do not depend on how many lanes travel together. (v8f, IntLanesOf, select,
+// splatLanes: blend_math.h.)
 template <typename V>
 constexpr int kLanes = int(sizeof(V) / sizeof(float));
-template <typename V>
-using IntLanes = typename LaneTypes<kLanes<V>>::I;
-template <typename V>
-LP_INLINE V selectLanes(IntLanes<V> mask, V a, V b) {
-  return mask ? a : b;
-}
 
 // A vector of lanes that may be known, at JIT time, to be all 0 or all 1.
 // The lanes live in a vector register: built and read in memory, a 16-byte load after narrower
@@ -59,9 +49,8 @@ struct Vec {
 [[gnu::target("fma")]] v4f fusedMultiplyAdd4Hardware(v4f x, v4f y, v4f z) {
   return (v4f)_mm_fmadd_ps((__m128)x, (__m128)y, (__m128)z);
 }
-[[gnu::target("fma,avx")]] LaneTypes<8>::F fusedMultiplyAdd8Hardware(LaneTypes<8>::F x, LaneTypes<8>::F y,
-                                                                    LaneTypes<8>::F z) {
-  return (LaneTypes<8>::F)_mm256_fmadd_ps((__m256)x, (__m256)y, (__m256)z);
+[[gnu::target("fma,avx")]] v8f fusedMultiplyAdd8Hardware(v8f x, v8f y, v8f z) {
+  return (v8f)_mm256_fmadd_ps((__m256)x, (__m256)y, (__m256)z);
 }
 bool hardwareFma() {
   static const bool supported = __builtin_cpu_supports("fma");
@@ -90,7 +79,7 @@ template <typename V>
 class Arith {
  public:
   using VecT = Vec<V>;
-  using VI = IntLanes<V>;
+  using VI = IntLanesOf<V>;
   static constexpr int N = kLanes<V>;
   Arith(bool flush, bool fma) : flush_(flush), fma_(fma) {}
 
@@ -117,11 +106,11 @@ class Arith {
   // x86 minps / maxps: a < b ? a : b (else b, NaN included), on the DAZ-read operands.
   LP_INLINE V minps(V a, V b) const {
     const V x = daz(a), y = daz(b);
-    return selectLanes<V>(x < y, x, y);
+    return select(x < y, x, y);
   }
   LP_INLINE V maxps(V a, V b) const {
     const V x = daz(a), y = daz(b);
-    return selectLanes<V>(x > y, x, y);
+    return select(x > y, x, y);
   }
   // lp_build_mad: llvm.fmuladd, one rounding on CPUs with FMA.
   LP_INLINE VecT mad(const VecT& a, const VecT& b, const VecT& c) const {
@@ -207,7 +196,7 @@ template <typename V>
 struct Inputs {
   Vec<V> src, dst, constant;
   V srcAlpha, dstAlpha, constAlpha;
-  IntLanes<V> alphaLanes;
+  IntLanesOf<V> alphaLanes;
   bool hasDstAlpha;
 };
 
@@ -245,7 +234,7 @@ LP_INLINE Vec<V> factorVector(const Arith<V>& A, unsigned rgb, unsigned alpha, c
   if (!in.hasDstAlpha) return r;
   const Vec<V> a = unswizzled(A, alpha, true, in);
   if (r.kind != Vec<V>::Value && r.kind == a.kind) return r;
-  return Vec<V>::of(selectLanes<V>(in.alphaLanes, a.v, r.v));
+  return Vec<V>::of(select(in.alphaLanes, a.v, r.v));
 }
 
 template <typename V>
@@ -290,7 +279,7 @@ LP_INLINE V run(const LlvmpipeFloatPlan& plan, const Inputs<V>& in) {
   const Vec<V> sf = factorVector(A, p.rs, p.as, in), df = factorVector(A, p.rd, p.ad, in);
   Vec<V> result = lpBlend(A, p.eqRgb, p.rs, p.rd, in.src, in.dst, sf, df, p.independent);
   if (p.eqRgb != p.eqAlpha && p.channels > 1 && p.hasAlpha)
-    result.v = selectLanes<V>(in.alphaLanes, lpBlend(A, p.eqAlpha, p.as, p.ad, in.src, in.dst, sf, df, p.independent).v,
+    result.v = select(in.alphaLanes, lpBlend(A, p.eqAlpha, p.as, p.ad, in.src, in.dst, sf, df, p.independent).v,
                               result.v);
   return result.v;
 }

@@ -8,10 +8,6 @@ namespace {
 constexpr int kMinSpan = 4;
 constexpr uint32_t kAhead = 8;
 
-// ⌊a / b⌋ and ⌈a / b⌉ for b > 0 (C++ division truncates toward zero).
-int64_t floorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-int64_t ceilDiv(int64_t a, int64_t b) { return -floorDiv(-a, b); }
-
 }  // namespace
 
 void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, int subpixelBits, bool perFragment,

@@ -11,11 +11,6 @@ struct WindowVertex {
   int64_t x, y;  // fixed point, S units per pixel
 };
 
-int64_t floorDiv(int64_t a, int64_t b) {  // b > 0
-  const int64_t q = a / b;
-  return (a % b != 0 && a < 0) ? q - 1 : q;
-}
-
 WindowVertex toWindow(const ClipVertex& v, const SetupContext& c) {
   const double scale = double(int64_t(1) << c.raster.subpixelBits);
   const glm::dvec4& p = v.position;

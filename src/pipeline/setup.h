@@ -26,6 +26,14 @@
 
 namespace oitref::detail {
 
+// ⌊a / b⌋ and ⌈a / b⌉ for b > 0 (C++ division truncates toward zero): pixel bounds at setup,
+// covered runs in the rasterizer.
+inline int64_t floorDiv(int64_t a, int64_t b) {
+  const int64_t q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+inline int64_t ceilDiv(int64_t a, int64_t b) { return -floorDiv(-a, b); }
+
 struct PixelRect {
   int x0, y0, x1, y1;  // inclusive-exclusive: [x0, x1) × [y0, y1)
 };
