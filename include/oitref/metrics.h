@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "oitref/image.h"
@@ -64,6 +65,17 @@ struct FlipResult {
 };
 // Throws std::invalid_argument when sizes or channel counts differ.
 FlipResult flip(const Image& reference, const Image& test, const FlipOptions& options = {});
+// One reference prepared once for many comparisons (a study compares every method's frame with
+// one ground truth): compare(test) is flip(reference, test, options), bit for bit.
+class FlipReference {
+ public:
+  explicit FlipReference(const Image& reference, const FlipOptions& options = {});
+  FlipResult compare(const Image& test) const;
+
+ private:
+  struct Prepared;
+  std::shared_ptr<const Prepared> prepared_;
+};
 // The ꟻLIP error map through the heatmap's colour scale (1 is white), with its legend.
 Image flipHeatmapWithLegend(const FlipResult& result);
 

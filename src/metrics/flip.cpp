@@ -108,28 +108,36 @@ double displayed(float value) { return std::isnan(value) ? 0.0 : std::clamp(doub
 struct Plane {
   int width, height;
   std::vector<double> v;
-  double at(int x, int y) const {
-    return v[size_t(std::clamp(y, 0, height - 1)) * width + std::clamp(x, 0, width - 1)];
-  }
 };
 
-// out(x, y) = Σ_i Σ_j ky[j]·kx[i]·in(x + i − r, y + j − r), borders repeating the edge.
+// out(x, y) = Σ_i Σ_j ky[j]·kx[i]·in(x + i − r, y + j − r), borders repeating the edge: first
+// along rows, then along columns. Each output sums its taps in kernel order from 0, as a loop per
+// pixel would; the loops run over whole rows (a tap at a time, x innermost) so that they vectorise.
 Plane correlate(const Plane& in, const std::vector<double>& kx, const std::vector<double>& ky) {
+  const int w = in.width, h = in.height;
   const int rx = int(kx.size() / 2), ry = int(ky.size() / 2);
-  Plane rows{in.width, in.height, std::vector<double>(in.v.size())};
-  for (int y = 0; y < in.height; ++y)
-    for (int x = 0; x < in.width; ++x) {
-      double s = 0;
-      for (int i = 0; i < int(kx.size()); ++i) s += kx[i] * in.at(x + i - rx, y);
-      rows.v[size_t(y) * in.width + x] = s;
+  Plane rows{w, h, std::vector<double>(in.v.size())};
+  std::vector<double> padded(size_t(w + 2 * rx));
+  for (int y = 0; y < h; ++y) {
+    const double* src = in.v.data() + size_t(y) * w;
+    for (int x = 0; x < w + 2 * rx; ++x) padded[size_t(x)] = src[std::clamp(x - rx, 0, w - 1)];
+    double* dst = rows.v.data() + size_t(y) * w;
+    std::fill(dst, dst + w, 0.0);
+    for (int i = 0; i < int(kx.size()); ++i) {
+      const double k = kx[size_t(i)];
+      const double* tap = padded.data() + i;
+      for (int x = 0; x < w; ++x) dst[x] += k * tap[x];
     }
-  Plane out{in.width, in.height, std::vector<double>(in.v.size())};
-  for (int y = 0; y < in.height; ++y)
-    for (int x = 0; x < in.width; ++x) {
-      double s = 0;
-      for (int j = 0; j < int(ky.size()); ++j) s += ky[j] * rows.at(x, y + j - ry);
-      out.v[size_t(y) * in.width + x] = s;
+  }
+  Plane out{w, h, std::vector<double>(in.v.size())};
+  for (int y = 0; y < h; ++y) {
+    double* dst = out.v.data() + size_t(y) * w;
+    for (int j = 0; j < int(ky.size()); ++j) {
+      const double k = ky[size_t(j)];
+      const double* tap = rows.v.data() + size_t(std::clamp(y + j - ry, 0, h - 1)) * w;
+      for (int x = 0; x < w; ++x) dst[x] += k * tap[x];
     }
+  }
   return out;
 }
 
@@ -187,15 +195,15 @@ std::vector<double> featureMagnitude(const Plane& y, double ppd, bool points) {
   return magnitude;
 }
 
-struct Prepared {
+struct Opponent {
   Plane opponent[3];  // Y, Cx, Cz
   Plane achromatic;   // y = (Y + 16) / 116
 };
 
-Prepared prepare(const Image& image, const ColourSpace& space) {
+Opponent prepare(const Image& image, const ColourSpace& space) {
   const int w = image.width(), h = image.height();
   const int channels = image.format().channels;
-  Prepared p;
+  Opponent p;
   for (Plane& plane : p.opponent) plane = {w, h, std::vector<double>(size_t(w) * h)};
   p.achromatic = {w, h, std::vector<double>(size_t(w) * h)};
   for (int y = 0; y < h; ++y)
@@ -212,7 +220,7 @@ Prepared prepare(const Image& image, const ColourSpace& space) {
 }
 
 // Steps 1b–1c: filtered, back in gamut, Hunt-adjusted CIELAB.
-std::vector<Vec3> perceived(const Prepared& p, const ColourSpace& space, double ppd) {
+std::vector<Vec3> perceived(const Opponent& p, const ColourSpace& space, double ppd) {
   const Plane f[3] = {csfFilter(p.opponent[0], kAchromatic, ppd), csfFilter(p.opponent[1], kRedGreen, ppd),
                       csfFilter(p.opponent[2], kBlueYellow, ppd)};
   std::vector<Vec3> out(f[0].v.size());
@@ -226,37 +234,53 @@ std::vector<Vec3> perceived(const Prepared& p, const ColourSpace& space, double 
 
 }  // namespace
 
-FlipResult flip(const Image& reference, const Image& test, const FlipOptions& options) {
-  if (reference.width() != test.width() || reference.height() != test.height())
-    throw std::invalid_argument("images differ in size: " + std::to_string(reference.width()) + "x" +
-                                std::to_string(reference.height()) + " and " + std::to_string(test.width()) + "x" +
-                                std::to_string(test.height()));
-  if (reference.format().channels != test.format().channels)
-    throw std::invalid_argument("images differ in channel count: " + std::to_string(reference.format().channels) +
-                                " and " + std::to_string(test.format().channels));
+// What a comparison needs of the reference: its perceived colours and feature magnitudes.
+struct FlipReference::Prepared {
+  int width, height, channels;
+  double ppd;
+  std::vector<Vec3> lab;
+  std::vector<double> edges, points;
+};
+
+FlipReference::FlipReference(const Image& reference, const FlipOptions& options) {
   if (!(options.pixelsPerDegree > 0) || options.pixelsPerDegree > 1000)
     throw std::invalid_argument("pixels per degree must be in (0, 1000], got " + std::to_string(options.pixelsPerDegree));
   const double ppd = options.pixelsPerDegree;
   const ColourSpace space;
-  const Prepared ref = prepare(reference, space), tst = prepare(test, space);
+  const Opponent ref = prepare(reference, space);
+  prepared_ = std::make_shared<const Prepared>(Prepared{reference.width(), reference.height(),
+                                                        reference.format().channels, ppd, perceived(ref, space, ppd),
+                                                        featureMagnitude(ref.achromatic, ppd, false),
+                                                        featureMagnitude(ref.achromatic, ppd, true)});
+}
 
-  const std::vector<Vec3> labRef = perceived(ref, space, ppd), labTest = perceived(tst, space, ppd);
+FlipResult FlipReference::compare(const Image& test) const {
+  const Prepared& ref = *prepared_;
+  if (ref.width != test.width() || ref.height != test.height())
+    throw std::invalid_argument("images differ in size: " + std::to_string(ref.width) + "x" +
+                                std::to_string(ref.height) + " and " + std::to_string(test.width()) + "x" +
+                                std::to_string(test.height()));
+  if (ref.channels != test.format().channels)
+    throw std::invalid_argument("images differ in channel count: " + std::to_string(ref.channels) +
+                                " and " + std::to_string(test.format().channels));
+  const double ppd = ref.ppd;
+  const ColourSpace space;
+  const Opponent tst = prepare(test, space);
+  const std::vector<Vec3> labTest = perceived(tst, space, ppd);
   const double cmax = std::pow(hyab(space.huntLab({{0, 1, 0}}), space.huntLab({{0, 0, 1}})), qc);
-  const std::vector<double> edgeRef = featureMagnitude(ref.achromatic, ppd, false),
-                            edgeTest = featureMagnitude(tst.achromatic, ppd, false),
-                            pointRef = featureMagnitude(ref.achromatic, ppd, true),
+  const std::vector<double> edgeTest = featureMagnitude(tst.achromatic, ppd, false),
                             pointTest = featureMagnitude(tst.achromatic, ppd, true);
 
   FlipResult r;
-  r.width = reference.width(), r.height = reference.height();
+  r.width = ref.width, r.height = ref.height;
   const size_t n = size_t(r.width) * r.height;
   r.error.resize(n), r.colour.resize(n), r.feature.resize(n);
   double sum = 0;
   for (size_t i = 0; i < n; ++i) {
-    const double c = std::pow(hyab(labRef[i], labTest[i]), qc);
+    const double c = std::pow(hyab(ref.lab[i], labTest[i]), qc);
     r.colour[i] = c < pc * cmax ? pt / (pc * cmax) * c : pt + (c - pc * cmax) / (cmax - pc * cmax) * (1 - pt);
     const double featureDifference =
-        std::max(std::fabs(edgeRef[i] - edgeTest[i]), std::fabs(pointRef[i] - pointTest[i]));
+        std::max(std::fabs(ref.edges[i] - edgeTest[i]), std::fabs(ref.points[i] - pointTest[i]));
     r.feature[i] = std::pow(featureDifference / std::sqrt(2.0), qf);
     r.error[i] = std::pow(r.colour[i], 1 - r.feature[i]);
     sum += r.error[i];
@@ -264,6 +288,10 @@ FlipResult flip(const Image& reference, const Image& test, const FlipOptions& op
   }
   r.mean = sum / double(n);
   return r;
+}
+
+FlipResult flip(const Image& reference, const Image& test, const FlipOptions& options) {
+  return FlipReference(reference, options).compare(test);
 }
 
 }  // namespace oitref
