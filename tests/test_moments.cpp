@@ -5,7 +5,10 @@
 // Aberth–Ehrlich, Lagrange instead of Newton interpolation.
 #include <catch2/catch.hpp>
 
+#include <array>
+#include <bit>
 #include <complex>
+#include <random>
 #include <functional>
 #include <vector>
 
@@ -259,6 +262,83 @@ TEST_CASE("moments: the root finders against polynomials with known roots", "[mo
     double nearest = 1;
     for (const auto& x : z) nearest = std::min(nearest, std::abs(x - w));
     CHECK(nearest < 1e-12);
+  }
+}
+
+TEST_CASE("moments: the lane root finder and trig batch give the one-at-a-time bits", "[moments]") {
+  // complexRootsBatch runs four polynomials in vector lanes, refilling a lane when its own
+  // converges; complexRoots (scalar) is the oracle, bit for bit. The polynomials: random roots on
+  // the unit circle (MBOIT's case), repeated roots (the ones that use all 500 sweeps), random
+  // coefficients, and a zero or NaN leading coefficient (NaN roots).
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> angle(0.0, 6.283185307179586), coefficient(-2.0, 2.0);
+  for (int n = 1; n <= 4; ++n) {
+    std::vector<std::array<std::complex<double>, 5>> polys;
+    for (int p = 0; p < 61; ++p) {
+      std::array<std::complex<double>, 5> c{};
+      if (p % 5 == 3) {
+        for (int k = 0; k <= n; ++k) c[size_t(k)] = {coefficient(random), coefficient(random)};
+      } else {
+        std::complex<double> roots[4];
+        for (int i = 0; i < n; ++i) roots[i] = std::polar(1.0, angle(random));
+        if (p % 5 == 1 && n > 1) roots[1] = roots[0];  // a double root
+        c[0] = 1.0;  // Π (x − r_i), expanded
+        for (int i = 0; i < n; ++i) {
+          for (int k = i + 1; k >= 1; --k) c[size_t(k)] = c[size_t(k - 1)] - roots[i] * c[size_t(k)];
+          c[0] = -roots[i] * c[0];
+        }
+        for (int k = 0; k <= n; ++k) c[size_t(k)] = (p % 2 ? -1.0 : 1.0) * c[size_t(k)];
+      }
+      if (p == 17) c[size_t(n)] = 0.0;
+      if (p == 29) c[size_t(n)] = {NAN, 0.0};
+      polys.push_back(c);
+    }
+    std::vector<const std::complex<double>*> pointers;
+    for (const auto& c : polys) pointers.push_back(c.data());
+    std::vector<std::complex<double>> batch(polys.size() * 4);
+    mm::complexRootsBatch(pointers.data(), n, int(polys.size()), batch.data());
+    int differing = 0;
+    for (size_t p = 0; p < polys.size(); ++p) {
+      const auto one = mm::complexRoots(polys[p].data(), n);
+      for (int i = 0; i < n; ++i) {
+        const std::complex<double> a = one[size_t(i)], b = batch[p * 4 + size_t(i)];
+        const bool same = (std::bit_cast<uint64_t>(a.real()) == std::bit_cast<uint64_t>(b.real()) &&
+                           std::bit_cast<uint64_t>(a.imag()) == std::bit_cast<uint64_t>(b.imag())) ||
+                          (std::isnan(a.real()) && std::isnan(b.real()));
+        differing += !same;
+      }
+    }
+    INFO("degree " << n);
+    CHECK(differing == 0);
+  }
+  // The trig reconstruction of a batch against one fragment at a time, on moments of random
+  // layer sets (some of which fall back).
+  for (const char* name : {"trig2", "trig3", "trig4"}) {
+    const mm::MomentSet set = mm::MomentSet::parse(name);
+    const mm::WrappingZone zone = mm::WrappingZone::fromAngle(0.1f * 3.14159265f);
+    std::uniform_real_distribution<double> depth(-1.0, 1.0), alpha(0.05, 0.9);
+    const int fragments = 45;
+    std::vector<float> b, z;
+    for (int f = 0; f < fragments; ++f) {
+      std::vector<double> zs, as;
+      for (int l = 0; l < 1 + f % 5; ++l) zs.push_back(f % 7 == 2 ? 0.25 : depth(random)), as.push_back(alpha(random));
+      const std::vector<float> m = atomMoments(set, zs, as);
+      b.insert(b.end(), m.begin(), m.end());
+      z.push_back(float(depth(random)));
+    }
+    std::vector<float> batch(fragments);
+    bool fell[fragments];
+    mm::trigMomentAbsorbanceBatch(set.count, b.data(), z.data(), fragments, 5e-7f, 0.25f, zone, batch.data(), fell);
+    int differing = 0, fallbacks = 0;
+    for (int f = 0; f < fragments; ++f) {
+      bool one = false;
+      const float a = mm::trigMomentAbsorbance(set.count, b.data() + size_t(f) * size_t(set.reals()), z[size_t(f)],
+                                               5e-7f, 0.25f, zone, &one);
+      differing += std::bit_cast<uint32_t>(a) != std::bit_cast<uint32_t>(batch[size_t(f)]) || one != fell[f];
+      fallbacks += one;
+    }
+    INFO(name << ": " << fallbacks << " of " << fragments << " fell back");
+    CHECK(differing == 0);
   }
 }
 

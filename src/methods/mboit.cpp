@@ -173,9 +173,7 @@ class Mboit final : public Method {
         used[n++] = i;
       }
       if (set.trigonometric)
-        for (int j = 0; j < n; ++j)
-          absorbance[j] = trigMomentAbsorbance(set.count, moments + size_t(j) * size_t(reals), depths[j], bias,
-                                               overestimation, zone, &fellBack[j]);
+        trigMomentAbsorbanceBatch(set.count, moments, depths, n, bias, overestimation, zone, absorbance, fellBack);
       else
         powerMomentAbsorbanceBatch(set.count, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
       for (int j = 0; j < n; ++j) {

@@ -12,6 +12,10 @@
 #include <stdexcept>
 #include <type_traits>
 
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
 #include "methods/det_math.h"
 #include "oitref/lanes.h"
 
@@ -59,7 +63,7 @@ namespace {
 // (__divdc3, hypot) also dominated the time (Cd).
 template <typename T>
 struct Cx {
-  T x = 0, y = 0;
+  T x{}, y{};
 };
 template <typename T> Cx<T> operator+(Cx<T> a, Cx<T> b) { return {a.x + b.x, a.y + b.y}; }
 template <typename T> Cx<T> operator-(Cx<T> a, Cx<T> b) { return {a.x - b.x, a.y - b.y}; }
@@ -159,39 +163,119 @@ RootList<double> realRootsOfRealRooted(const double* c, int n) {
   return roots;
 }
 
+namespace {
+
+// Per-lane helpers for the root finder, on one polynomial (double, bool) or four (lanes::d4,
+// −1/0 int64 lanes).
+template <typename T>
+using LaneMask = std::conditional_t<std::is_same_v<T, double>, bool, decltype(lanes::d4{} < lanes::d4{})>;
+inline double selectLanes(bool m, double a, double b) { return m ? a : b; }
+inline lanes::d4 selectLanes(decltype(lanes::d4{} < lanes::d4{}) m, lanes::d4 a, lanes::d4 b) { return m ? a : b; }
+inline bool anyLane(bool m) { return m; }
+inline bool anyLane(decltype(lanes::d4{} < lanes::d4{}) m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+inline double sqrtLanes(double x) { return std::sqrt(x); }
+inline lanes::d4 sqrtLanes(lanes::d4 x) {  // IEEE square root, per lane
+#if defined(__AVX__)
+  return (lanes::d4)_mm256_sqrt_pd((__m256d)x);
+#else
+  for (int i = 0; i < 4; ++i) x[i] = std::sqrt(x[i]);
+  return x;
+#endif
+}
+
 // Aberth–Ehrlich iteration from the points (0.4 + 0.9i)^k, in place (each update uses the newest
 // others): z_i −= w / (1 − w·Σ_{j≠i} 1/(z_i − z_j)) with w = p(z_i)/p'(z_i), until no root moves
 // by more than 1e-15 of 1 + its size, or 500 sweeps. Cubically convergent for simple roots, which
 // matters here: MBOIT's roots crowd together when layers do.
+constexpr int kAberthSweeps = 500;
+template <typename T>
+void aberthStart(int n, Cx<T>* z) {
+  Cd start{1.0, 0.0};
+  for (int i = 0; i < n; ++i, start = start * Cd{0.4, 0.9}) z[i] = {T{} + start.x, T{} + start.y};
+}
+// One sweep over the roots z of the monic polynomial with lower coefficients a; whether a root
+// moved. On lanes, every lane runs its own polynomial's sweep (a root whose p(z) is exactly 0
+// stays), and only the `active` lanes change.
+template <typename T>
+LaneMask<T> aberthSweep(const Cx<T>* a, int n, LaneMask<T> active, Cx<T>* z) {
+  const Cx<T> one{T{} + 1.0, T{} + 0.0};
+  LaneMask<T> moved{};
+  for (int i = 0; i < n; ++i) {
+    const Cx<T> x = z[i];
+    Cx<T> p = one, dp{T{} + 0.0, T{} + 0.0};
+    for (int k = n - 1; k >= 0; --k) dp = dp * x + p, p = p * x + a[k];
+    Cx<T> repulsion{T{} + 0.0, T{} + 0.0};
+    for (int j = 0; j < n; ++j)
+      if (j != i) repulsion = repulsion + divide(one, x - z[j]);
+    const Cx<T> w = divide(p, dp);
+    const Cx<T> step = divide(w, one - w * repulsion);
+    const LaneMask<T> update = lanes::both(active, lanes::negate(lanes::both(p.x == 0.0, p.y == 0.0)));
+    z[i] = {selectLanes(update, x.x - step.x, x.x), selectLanes(update, x.y - step.y, x.y)};
+    const T size = 1.0 + sqrtLanes(norm(x));
+    moved = lanes::either(moved, lanes::both(update, lanes::negate(norm(step) <= 1e-30 * size * size)));
+  }
+  return moved;
+}
+
+// The monic form of Σ c_k x^k: false when the leading coefficient is 0 or not finite.
+bool monic(const std::complex<double>* c, int n, Cd* a) {
+  const Cd lead{c[n].real(), c[n].imag()};
+  if (!(norm(lead) > 0.0) || !std::isfinite(norm(lead))) return false;
+  for (int k = 0; k <= n; ++k) a[k] = divide(Cd{c[k].real(), c[k].imag()}, lead);
+  return true;
+}
+
+}  // namespace
+
 RootList<std::complex<double>> complexRoots(const std::complex<double>* c, int n) {
   RootList<std::complex<double>> out;
   for (int i = 0; i < n; ++i) out.push_back(std::complex<double>(NAN, NAN));
-  const Cd lead{c[n].real(), c[n].imag()};
-  if (!(norm(lead) > 0.0) || !std::isfinite(norm(lead))) return out;
   Cd a[5], z[4];
-  for (int k = 0; k <= n; ++k) a[k] = divide(Cd{c[k].real(), c[k].imag()}, lead);
-  Cd start{1.0, 0.0};
-  for (int i = 0; i < n; ++i, start = start * Cd{0.4, 0.9}) z[i] = start;
-  for (int sweep = 0; sweep < 500; ++sweep) {
-    bool moved = false;
-    for (int i = 0; i < n; ++i) {
-      const Cd x = z[i];
-      Cd p{1.0, 0.0}, dp{0.0, 0.0};
-      for (int k = n - 1; k >= 0; --k) dp = dp * x + p, p = p * x + a[k];
-      if (p.x == 0.0 && p.y == 0.0) continue;
-      Cd repulsion{0.0, 0.0};
-      for (int j = 0; j < n; ++j)
-        if (j != i) repulsion = repulsion + divide(Cd{1.0, 0.0}, x - z[j]);
-      const Cd w = divide(p, dp);
-      const Cd step = divide(w, Cd{1.0, 0.0} - w * repulsion);
-      z[i] = x - step;
-      const double size = 1.0 + std::sqrt(norm(x));
-      moved = moved || !(norm(step) <= 1e-30 * size * size);
-    }
-    if (!moved) break;
-  }
+  if (!monic(c, n, a)) return out;
+  aberthStart(n, z);
+  for (int sweep = 0; sweep < kAberthSweeps; ++sweep)
+    if (!aberthSweep<double>(a, n, true, z)) break;
   for (int i = 0; i < n; ++i) out.values[i] = {z[i].x, z[i].y};
   return out;
+}
+
+void complexRootsBatch(const std::complex<double>* const* c, int n, int count, std::complex<double>* roots) {
+  // Four lanes, each taking the next polynomial when its own has converged (or used its 500
+  // sweeps): a few polynomials take all 500 (roots that coincide converge only linearly), and
+  // lanes that waited for them would run no faster than one polynomial at a time.
+  using lanes::d4;
+  Cx<d4> a[5], z[4];
+  LaneMask<d4> active{};
+  int problem[4] = {-1, -1, -1, -1}, sweeps[4] = {};
+  int next = 0;
+  Cd start[4];
+  aberthStart(n, start);
+  auto load = [&](int l) {
+    problem[l] = -1;
+    active[l] = 0;
+    while (next < count) {
+      const int p = next++;
+      Cd m[5];
+      if (!monic(c[p], n, m)) {
+        for (int i = 0; i < n; ++i) roots[size_t(p) * 4 + size_t(i)] = {NAN, NAN};
+        continue;
+      }
+      for (int k = 0; k <= n; ++k) a[k].x[l] = m[k].x, a[k].y[l] = m[k].y;
+      for (int i = 0; i < n; ++i) z[i].x[l] = start[i].x, z[i].y[l] = start[i].y;
+      problem[l] = p, sweeps[l] = 0, active[l] = -1;
+      return;
+    }
+  };
+  for (int l = 0; l < 4; ++l) load(l);
+  while (anyLane(active)) {
+    const LaneMask<d4> moved = aberthSweep<d4>(a, n, active, z);
+    for (int l = 0; l < 4; ++l) {
+      if (!active[l]) continue;
+      if (moved[l] && ++sweeps[l] < kAberthSweeps) continue;
+      for (int i = 0; i < n; ++i) roots[size_t(problem[l]) * 4 + size_t(i)] = {z[i].x[l], z[i].y[l]};
+      load(l);
+    }
+  }
 }
 
 namespace {
@@ -356,15 +440,21 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
     absorbance[i] = powerMomentAbsorbance(count, b + size_t(i) * count, z[i], bias, biasVector, overestimation, &fellBack[i]);
 }
 
-float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation, const WrappingZone& zone,
-                           bool* fellBack) {
-  if (fellBack) *fellBack = false;
-  auto fallBack = [&] {
-    if (fellBack) *fellBack = true;
-    return overestimation;
-  };
-  const int n = count;
+namespace {
+
+// A fragment's trigonometric reconstruction up to its roots: the biased moments, the point of
+// its depth on the unit circle, and the polynomial whose roots are wanted (ok false: the
+// Toeplitz matrix is not positive definite, the fragment falls back).
+struct TrigProblem {
   Cf B[5];
+  Cf w;
+  std::complex<double> polynomial[5];
+  bool ok = false;
+};
+
+TrigProblem trigProblem(int n, const float* b, float z, float bias, const WrappingZone& zone) {
+  TrigProblem t;
+  Cf* B = t.B;
   B[0] = {1.0f, 0.0f};
   for (int k = 1; k <= n; ++k) B[k] = Cf{b[2 * (k - 1)], b[2 * (k - 1) + 1]} * (1.0f - bias);
   // Toeplitz T_ij = b_{i−j} (i ≥ j), conj(b_{j−i}) above: T = L·D·Lᴴ.
@@ -373,7 +463,7 @@ float trigMomentAbsorbance(int count, const float* b, float z, float bias, float
   for (int j = 0; j <= n; ++j) {
     float d = B[0].x;
     for (int k = 0; k < j; ++k) d -= norm(L[j][k]) * D[k];
-    if (!(d > 0.0f)) return fallBack();
+    if (!(d > 0.0f)) return t;
     D[j] = d;
     const float inv = 1.0f / d;
     for (int i = j + 1; i <= n; ++i) {
@@ -382,35 +472,85 @@ float trigMomentAbsorbance(int count, const float* b, float z, float bias, float
       L[i][j] = v * inv;
     }
   }
-  const Cf w = unitCirclePoint(z, zone);
+  t.w = unitCirclePoint(z, zone);
   Cf c[5];
   c[0] = {1.0f, 0.0f};
-  circlePowers(w, n, c + 1);
+  circlePowers(t.w, n, c + 1);
   for (int i = 1; i <= n; ++i)
     for (int k = 0; k < i; ++k) c[i] = c[i] - L[i][k] * c[k];
   for (int i = 0; i <= n; ++i) c[i] = c[i] * (1.0f / D[i]);
   for (int i = n - 1; i >= 0; --i)
     for (int k = i + 1; k <= n; ++k) c[i] = c[i] - conj(L[k][i]) * c[k];
   // The roots of Σ conj(c_k)·x^k lie on the unit circle.
-  std::complex<double> cd[5];
-  for (int k = 0; k <= n; ++k) cd[k] = {double(c[k].x), -double(c[k].y)};
-  const RootList<std::complex<double>> roots = complexRoots(cd, n);
-  const float depthParameter = circleToParameter(w.x, w.y);
+  for (int k = 0; k <= n; ++k) t.polynomial[k] = {double(c[k].x), -double(c[k].y)};
+  t.ok = true;
+  return t;
+}
+
+// The rest, from the roots: the absorbance, or false (fall back) where a root or the result is
+// not finite.
+bool trigAbsorbanceFromRoots(const TrigProblem& t, int n, const std::complex<double>* roots, float overestimation,
+                             const WrappingZone& zone, float& absorbance) {
+  const float depthParameter = circleToParameter(t.w.x, t.w.y);
   Cf x[5];
   float f[5];
-  x[0] = w, f[0] = overestimation;
+  x[0] = t.w, f[0] = overestimation;
   for (int i = 0; i < n; ++i) {
-    x[i + 1] = {float(roots[size_t(i)].real()), float(roots[size_t(i)].imag())};
-    if (!std::isfinite(x[i + 1].x) || !std::isfinite(x[i + 1].y)) return fallBack();
+    x[i + 1] = {float(roots[i].real()), float(roots[i].imag())};
+    if (!std::isfinite(x[i + 1].x) || !std::isfinite(x[i + 1].y)) return false;
     const float rootParameter = circleToParameter(x[i + 1].x, x[i + 1].y);
     f[i + 1] = (rootParameter < depthParameter ? 1.0f : 0.0f) +
                std::clamp(rootParameter * zone.rampScale + zone.rampOffset, 0.0f, 1.0f);
   }
   Cf poly[5];
   interpolate(x, f, n, poly);
-  float absorbance = 0.0f;
-  for (int k = 0; k <= n; ++k) absorbance += (B[k] * poly[k]).x;
-  return std::isfinite(absorbance) ? absorbance : fallBack();
+  absorbance = 0.0f;
+  for (int k = 0; k <= n; ++k) absorbance += (t.B[k] * poly[k]).x;
+  return std::isfinite(absorbance);
+}
+
+}  // namespace
+
+float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation, const WrappingZone& zone,
+                           bool* fellBack) {
+  float absorbance = overestimation;
+  trigMomentAbsorbanceBatch(count, b, &z, 1, bias, overestimation, zone, &absorbance, fellBack);
+  return absorbance;
+}
+
+void trigMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, float overestimation,
+                               const WrappingZone& zone, float* absorbance, bool* fellBack) {
+  const int reals = 2 * count;
+  constexpr int kMost = 64;
+  for (int start = 0; start < n; start += kMost) {
+    const int m = std::min(kMost, n - start);
+    TrigProblem problems[kMost];
+    const std::complex<double>* polynomials[kMost];
+    int solvable[kMost], s = 0;
+    for (int i = 0; i < m; ++i) {
+      problems[i] = trigProblem(count, b + size_t(start + i) * size_t(reals), z[start + i], bias, zone);
+      if (problems[i].ok) polynomials[s] = problems[i].polynomial, solvable[s++] = i;
+    }
+    std::complex<double> roots[kMost * 4];
+    if (s == 1) {
+      const RootList<std::complex<double>> r = complexRoots(polynomials[0], count);
+      for (int k = 0; k < count; ++k) roots[k] = r[size_t(k)];
+    } else if (s > 1) {
+      complexRootsBatch(polynomials, count, s, roots);
+    }
+    for (int i = 0; i < m; ++i) {
+      float& out = absorbance[start + i];
+      out = overestimation;
+      if (fellBack) fellBack[start + i] = true;
+    }
+    for (int j = 0; j < s; ++j) {
+      const int i = solvable[j];
+      float& out = absorbance[start + i];
+      const bool ok = trigAbsorbanceFromRoots(problems[i], count, roots + size_t(j) * 4, overestimation, zone, out);
+      if (!ok) out = overestimation;
+      if (fellBack) fellBack[start + i] = !ok;
+    }
+  }
 }
 
 }  // namespace oitref::methods

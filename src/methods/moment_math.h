@@ -67,6 +67,10 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
 inline float biasedMoment(float b, float bias, float biasValue) { return (1.0f - bias) * b + bias * biasValue; }
 float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation,
                            const WrappingZone& zone, bool* fellBack = nullptr);
+// trigMomentAbsorbance for n fragments (b[i·2·count + k], z[i]): their roots found four at a time
+// in vector lanes, each lane iterating as it would alone (the same bits).
+void trigMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, float overestimation,
+                               const WrappingZone& zone, float* absorbance, bool* fellBack);
 
 // The real roots of a real-rooted polynomial Σ c_k x^k of degree n ≤ 4 (ascending order), and
 // the roots of a complex polynomial of degree n ≤ 4 (any order): deterministic iterations in
@@ -87,5 +91,8 @@ struct RootList {
 };
 RootList<double> realRootsOfRealRooted(const double* c, int n);
 RootList<std::complex<double>> complexRoots(const std::complex<double>* c, int n);
+// complexRoots of `count` polynomials c[p] of degree n, four at a time in vector lanes (each lane
+// iterates as complexRoots would, so the same bits): roots[p·4 + i].
+void complexRootsBatch(const std::complex<double>* const* c, int n, int count, std::complex<double>* roots);
 
 }  // namespace oitref::methods
