@@ -275,16 +275,25 @@ void TargetBlender::llvmpipeFloatTexelBatch(const TargetBlender& b, const glm::v
     gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
     v8f r;
     b.llvmpipeBlend8_(b.llvmpipePlan_, lanes, r);
-    for (int p = 0; p < P; ++p)
-      for (int ch = 0; ch < Channels; ++ch) {
-        if constexpr (Half) {
-          const uint16_t h = encodeHalfInline(r[p * Channels + ch], b.profile_.fp16);
-          std::memcpy(texels[i + p] + 2 * ch, &h, 2);
-        } else {
-          const float v = r[p * Channels + ch];
-          std::memcpy(texels[i + p] + 4 * ch, &v, 4);
-        }
-      }
+    // The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
+    // encodeHalfInline), then each pixel's channels stored whole: read lane by lane, the result
+    // waited on its own store (store forwarding) and the rounding was tested per channel.
+    if constexpr (Half) {
+      alignas(16) uint16_t h[8];
+#if defined(OITREF_HAVE_F16C)
+      const __m128i packed = b.profile_.fp16 == Rounding::TowardZero
+                                 ? _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
+                                 : _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+      _mm_store_si128(reinterpret_cast<__m128i*>(h), packed);
+#else
+      for (int l = 0; l < 8; ++l) h[l] = encodeHalfInline(r[l], b.profile_.fp16);
+#endif
+      for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], h + p * Channels, 2 * Channels);
+    } else {
+      alignas(32) float f[8];
+      std::memcpy(f, &r, sizeof f);
+      for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], f + p * Channels, 4 * Channels);
+    }
   }
   for (; i < n; ++i) llvmpipeFloatTexelKernel<Channels, Half>(b, *sources[i], texels[i]);
 }
