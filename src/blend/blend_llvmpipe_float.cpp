@@ -132,11 +132,22 @@ class Arith {
   LP_INLINE VecT lerp(const VecT& x, const VecT& v0, const VecT& v1) const { return mad(x, sub(v1, v0), v0); }
 
  private:
+  // Whether any lane is set, with one vector test: or-ing the lanes one by one moved each into a
+  // general register first, and these tests run several times in every blend call.
   LP_INLINE static bool any(VI m) {
-    VI folded = m;
+#if defined(__x86_64__)
+    if constexpr (N == 8) {  // the halves or-ed, then SSE2's byte mask (no AVX intrinsic: this
+                             // body is also compiled where AVX is not the default)
+      const auto half = __builtin_shufflevector(m, m, 0, 1, 2, 3) | __builtin_shufflevector(m, m, 4, 5, 6, 7);
+      return _mm_movemask_epi8((__m128i)half) != 0;
+    } else {
+      return _mm_movemask_epi8((__m128i)m) != 0;
+    }
+#else
     int any = 0;
-    for (int i = 0; i < N; ++i) any |= folded[i];
+    for (int i = 0; i < N; ++i) any |= m[i];
     return any != 0;
+#endif
   }
   // `op(k)` computes the operation with its operands scaled by k; k = 2^64 lifts a tiny result
   // into the normal range, where fp32 rounding is the unbounded-exponent rounding.
