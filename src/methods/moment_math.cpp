@@ -171,7 +171,6 @@ template <typename T>
 using LaneMask = std::conditional_t<std::is_same_v<T, double>, bool, decltype(lanes::d4{} < lanes::d4{})>;
 inline double selectLanes(bool m, double a, double b) { return m ? a : b; }
 inline lanes::d4 selectLanes(decltype(lanes::d4{} < lanes::d4{}) m, lanes::d4 a, lanes::d4 b) { return m ? a : b; }
-inline bool anyLane(bool m) { return m; }
 inline bool anyLane(decltype(lanes::d4{} < lanes::d4{}) m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 inline double sqrtLanes(double x) { return std::sqrt(x); }
 inline lanes::d4 sqrtLanes(lanes::d4 x) {  // IEEE square root, per lane
@@ -532,7 +531,7 @@ void trigMomentAbsorbanceBatch(int count, const float* b, const float* z, int n,
       if (problems[i].ok) polynomials[s] = problems[i].polynomial, solvable[s++] = i;
     }
     std::complex<double> roots[kMost * 4];
-    if (s == 1) {
+    if (s == 1) {  // complexRoots itself: trigMomentAbsorbance's path, the oracle of the lanes' tests
       const RootList<std::complex<double>> r = complexRoots(polynomials[0], count);
       for (int k = 0; k < count; ++k) roots[k] = r[size_t(k)];
     } else if (s > 1) {
