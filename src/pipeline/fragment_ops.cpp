@@ -223,6 +223,10 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
 void FragmentStage::blendBatch(int y, int count) {
   const glm::vec4* sources[kBatch];
   uint8_t* texels[kBatch];
+  // The targets every fragment of the batch wrote (the usual case) take all of them without
+  // compaction: compacting, each fragment's slot waited on the previous one's written bit.
+  unsigned writtenByAll = ~0u;
+  for (int i = 0; i < count; ++i) writtenByAll &= outputs_[size_t(batchOutput_[i])].writtenMask();
   for (unsigned targets = boundTargets_; targets;) {
     const int t = __builtin_ctz(targets);
     targets &= targets - 1;
@@ -230,11 +234,19 @@ void FragmentStage::blendBatch(int y, int count) {
     uint8_t* row = image.texel(0, y);
     const size_t bytes = image.bytesPerTexel();
     int n = 0;
-    for (int i = 0; i < count; ++i) {
-      const FragmentOutput& out = outputs_[size_t(batchOutput_[i])];
-      sources[n] = &out.color(t);
-      texels[n] = row + size_t(batchX_[i]) * bytes;
-      n += (out.writtenMask() >> t) & 1u;
+    if ((writtenByAll >> t) & 1u) {
+      for (int i = 0; i < count; ++i) {
+        sources[i] = &outputs_[size_t(batchOutput_[i])].color(t);
+        texels[i] = row + size_t(batchX_[i]) * bytes;
+      }
+      n = count;
+    } else {
+      for (int i = 0; i < count; ++i) {
+        const FragmentOutput& out = outputs_[size_t(batchOutput_[i])];
+        sources[n] = &out.color(t);
+        texels[n] = row + size_t(batchX_[i]) * bytes;
+        n += (out.writtenMask() >> t) & 1u;
+      }
     }
     if (n) blenders_[size_t(t)].blendBatch(sources, texels, n);
   }
