@@ -132,3 +132,26 @@ TEST_CASE("format: every UNORM16 code decodes to k/65535 and encodes back to its
     REQUIRE((out[0] | (out[1] << 8)) == int(k));
   }
 }
+
+TEST_CASE("Image::fetch gives decodeTexel's bits for every format, fp32 payloads included", "[format]") {
+  // fetch reads fp32 layouts inline and every other format through its decoder; decodeTexel
+  // (the general decoder) is the oracle, bit for bit: a signalling NaN with a payload, −0, a
+  // denormal and infinities must come back unchanged.
+  const uint32_t specials[] = {0x7f800001u, 0xff812345u, 0x80000000u, 0x00000001u, 0x7f800000u, 0xff800000u,
+                               0x3f800000u, 0xc1234567u};
+  for (const char* name : {"r32f", "rg32f", "rgba32f", "rgba16f", "r16f", "rgba8", "r8", "rg8", "rgba16"}) {
+    const Format f = parseFormat(name);
+    Image image(f, 3, 2);
+    for (size_t i = 0; i < image.sizeBytes(); ++i) {
+      // Byte patterns that place each special value in each fp32 channel in turn.
+      const uint32_t word = specials[(i / 4) % (sizeof specials / sizeof specials[0])];
+      image.texel(0, 0)[i] = uint8_t(word >> (8 * (i % 4)));
+    }
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 3; ++x) {
+        const glm::vec4 got = image.fetch(x, y), want = decodeTexel(f, image.texel(x, y));
+        INFO(name << " texel (" << x << ", " << y << ")");
+        CHECK(std::memcmp(&got, &want, sizeof got) == 0);
+      }
+  }
+}

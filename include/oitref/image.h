@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -34,7 +35,18 @@ class Image {
   const std::vector<uint8_t>& bytes() const { return bytes_; }
 
   // texelFetch semantics: the stored value decoded exactly.
-  glm::vec4 fetch(int x, int y) const { return decoder_(format_, texel(x, y)); }
+  // The fp32 layouts are fetched inline: their decoding is the copy (missing channels 0, alpha 1,
+  // as every decoder gives); through the decoder's pointer, the call cost a composite 10 %.
+  glm::vec4 fetch(int x, int y) const {
+    const uint8_t* t = texel(x, y);
+    glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f);
+    switch (float32Channels_) {
+      case 4: std::memcpy(&v, t, 16); return v;
+      case 2: std::memcpy(&v, t, 8); return v;
+      case 1: std::memcpy(&v, t, 4); return v;
+      default: return decoder_(format_, t);
+    }
+  }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
   void store(int x, int y, const glm::vec4& value, const Profile& profile);
   // glClearBuffer: every texel gets the converted clear value.
@@ -47,6 +59,7 @@ class Image {
   int width_ = 0, height_ = 0;
   size_t texelBytes_ = 0;
   TexelDecoder decoder_ = decodeTexel;
+  int float32Channels_ = 0;  // 4, 2 or 1 for rgba32f, rg32f, r32f (fetched inline), else 0
   std::vector<uint8_t> bytes_;
 };
 

@@ -19,6 +19,8 @@ Image::Image(Format format, int width, int height) : format_(format), width_(wid
                                 " outside 1.." + std::to_string(kMaxDimension));
   texelBytes_ = size_t(format.bytesPerTexel());
   decoder_ = texelDecoder(format);
+  if (!format.isPacked() && format.encoding() == ChannelEncoding::Float32 && format.channels != 3)
+    float32Channels_ = format.channels;
   bytes_.assign(imageBytes(format, width, height), 0);
 }
 
