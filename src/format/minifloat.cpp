@@ -158,11 +158,17 @@ MinifloatSpec parseMinifloatSpec(const std::string& text) {
     throw std::invalid_argument("bad minifloat spec '" + text + "': " + why +
                                 " (expected e<E>m<M>[u][fn|nonan][_ftz][_sat], e.g. e8m7, e4m3fn)");
   };
+  // Digits read here, not by std::stoi, which throws std::out_of_range past INT_MAX (the fuzzer's
+  // e3333…3): any count over 999 bits is refused as too large, naming its position.
   auto readInt = [&]() {
-    size_t start = pos;
-    while (pos < text.size() && std::isdigit(static_cast<unsigned char>(text[pos]))) ++pos;
+    const size_t start = pos;
+    int value = 0;
+    for (; pos < text.size() && std::isdigit(static_cast<unsigned char>(text[pos])); ++pos) {
+      if (value > 99) fail("the number at position " + std::to_string(start) + " is too large");
+      value = value * 10 + (text[pos] - '0');
+    }
     if (start == pos) fail("missing number at position " + std::to_string(start));
-    return std::stoi(text.substr(start, pos - start));
+    return value;
   };
   if (pos >= text.size() || text[pos] != 'e') fail("must start with 'e'");
   ++pos;
