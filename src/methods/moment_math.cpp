@@ -165,21 +165,43 @@ RootList<double> realRootsOfRealRooted(const double* c, int n) {
 
 namespace {
 
-// Per-lane helpers for the root finder, on one polynomial (double, bool) or four (lanes::d4,
-// −1/0 int64 lanes).
-template <typename T>
-using LaneMask = std::conditional_t<std::is_same_v<T, double>, bool, decltype(lanes::d4{} < lanes::d4{})>;
-inline double selectLanes(bool m, double a, double b) { return m ? a : b; }
-inline lanes::d4 selectLanes(decltype(lanes::d4{} < lanes::d4{}) m, lanes::d4 a, lanes::d4 b) { return m ? a : b; }
-inline bool anyLane(decltype(lanes::d4{} < lanes::d4{}) m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
-inline double sqrtLanes(double x) { return std::sqrt(x); }
-inline lanes::d4 sqrtLanes(lanes::d4 x) {  // IEEE square root, per lane
+// Lanes: one value (float or double, with bool comparisons) or a vector of them (v8f for the
+// four-moment closed form, lanes::d4 for the root finder, −1/0 integer lanes), so that a rule is
+// written once and a batch's lanes run the scalar operations side by side.
+typedef float v8f __attribute__((vector_size(32)));
+typedef int32_t v8i __attribute__((vector_size(32)));
+using d4Mask = decltype(lanes::d4{} < lanes::d4{});
+template <typename F>
+using MaskOf = std::conditional_t<std::is_arithmetic_v<F>, bool, std::conditional_t<std::is_same_v<F, v8f>, v8i, d4Mask>>;
+template <typename F>
+inline F splatF(float v) {
+  return F{} + v;
+}
+inline float selectF(bool m, float a, float b) { return m ? a : b; }
+inline double selectF(bool m, double a, double b) { return m ? a : b; }
+inline v8f selectF(v8i m, v8f a, v8f b) { return m ? a : b; }
+inline lanes::d4 selectF(d4Mask m, lanes::d4 a, lanes::d4 b) { return m ? a : b; }
+inline bool anyLane(d4Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+// IEEE square root, per lane.
+inline float sqrtF(float x) { return std::sqrt(x); }
+inline double sqrtF(double x) { return std::sqrt(x); }
+inline v8f sqrtF(v8f x) {
+  v8f r;
+  for (int i = 0; i < 8; ++i) r[i] = std::sqrt(x[i]);
+  return r;
+}
+inline lanes::d4 sqrtF(lanes::d4 x) {
 #if defined(__AVX__)
   return (lanes::d4)_mm256_sqrt_pd((__m256d)x);
 #else
   for (int i = 0; i < 4; ++i) x[i] = std::sqrt(x[i]);
   return x;
 #endif
+}
+// isfinite, with floating-point operations only: x − x is 0 for finite x and NaN for ±inf, NaN.
+template <typename F>
+inline MaskOf<F> finiteF(F x) {
+  return (x - x) == splatF<F>(0.0f);
 }
 
 // Aberth–Ehrlich iteration from the points (0.4 + 0.9i)^k, in place (each update uses the newest
@@ -196,9 +218,9 @@ void aberthStart(int n, Cx<T>* z) {
 // moved. On lanes, every lane runs its own polynomial's sweep (a root whose p(z) is exactly 0
 // stays), and only the `active` lanes change.
 template <typename T>
-LaneMask<T> aberthSweep(const Cx<T>* a, int n, LaneMask<T> active, Cx<T>* z) {
+MaskOf<T> aberthSweep(const Cx<T>* a, int n, MaskOf<T> active, Cx<T>* z) {
   const Cx<T> one{T{} + 1.0, T{} + 0.0};
-  LaneMask<T> moved{};
+  MaskOf<T> moved{};
   for (int i = 0; i < n; ++i) {
     const Cx<T> x = z[i];
     Cx<T> p = one, dp{T{} + 0.0, T{} + 0.0};
@@ -208,9 +230,9 @@ LaneMask<T> aberthSweep(const Cx<T>* a, int n, LaneMask<T> active, Cx<T>* z) {
       if (j != i) repulsion = repulsion + divide(one, x - z[j]);
     const Cx<T> w = divide(p, dp);
     const Cx<T> step = divide(w, one - w * repulsion);
-    const LaneMask<T> update = lanes::both(active, lanes::negate(lanes::both(p.x == 0.0, p.y == 0.0)));
-    z[i] = {selectLanes(update, x.x - step.x, x.x), selectLanes(update, x.y - step.y, x.y)};
-    const T size = 1.0 + sqrtLanes(norm(x));
+    const MaskOf<T> update = lanes::both(active, lanes::negate(lanes::both(p.x == 0.0, p.y == 0.0)));
+    z[i] = {selectF(update, x.x - step.x, x.x), selectF(update, x.y - step.y, x.y)};
+    const T size = 1.0 + sqrtF(norm(x));
     moved = lanes::either(moved, lanes::both(update, lanes::negate(norm(step) <= 1e-30 * size * size)));
   }
   return moved;
@@ -244,7 +266,7 @@ void complexRootsBatch(const std::complex<double>* const* c, int n, int count, s
   // lanes that waited for them would run no faster than one polynomial at a time.
   using lanes::d4;
   Cx<d4> a[5], z[4];
-  LaneMask<d4> active{};
+  MaskOf<d4> active{};
   int problem[4] = {-1, -1, -1, -1}, sweeps[4] = {};
   int next = 0;
   Cd start[4];
@@ -267,7 +289,7 @@ void complexRootsBatch(const std::complex<double>* const* c, int n, int count, s
   };
   for (int l = 0; l < 4; ++l) load(l);
   while (anyLane(active)) {
-    const LaneMask<d4> moved = aberthSweep<d4>(a, n, active, z);
+    const MaskOf<d4> moved = aberthSweep<d4>(a, n, active, z);
     for (int l = 0; l < 4; ++l) {
       if (!active[l]) continue;
       if (moved[l] && ++sweeps[l] < kAberthSweeps) continue;
@@ -278,30 +300,6 @@ void complexRootsBatch(const std::complex<double>* const* c, int n, int count, s
 }
 
 namespace {
-
-// Lanes for the closed form below: one fragment (float, bool) or eight (v8f, −1/0 lanes), so
-// that the rule is written once and a batch's lanes run the scalar operations side by side.
-typedef float v8f __attribute__((vector_size(32)));
-typedef int32_t v8i __attribute__((vector_size(32)));
-template <typename F>
-using MaskOf = std::conditional_t<std::is_same_v<F, float>, bool, v8i>;
-template <typename F>
-inline F splatF(float v) {
-  return F{} + v;
-}
-inline float selectF(bool m, float a, float b) { return m ? a : b; }
-inline v8f selectF(v8i m, v8f a, v8f b) { return m ? a : b; }
-inline float sqrtF(float x) { return std::sqrt(x); }
-inline v8f sqrtF(v8f x) {
-  v8f r;
-  for (int i = 0; i < 8; ++i) r[i] = std::sqrt(x[i]);  // IEEE square root, per lane
-  return r;
-}
-// isfinite, with floating-point operations only: x − x is 0 for finite x and NaN for ±inf, NaN.
-template <typename F>
-inline MaskOf<F> finiteF(F x) {
-  return (x - x) == splatF<F>(0.0f);
-}
 
 // 4 power moments in closed form, in the order of the paper code's fp32 operations; `ok` is
 // false where the moments cannot be used (a pivot not positive, a root not finite), and the
