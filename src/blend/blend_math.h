@@ -16,6 +16,10 @@
 #include <cstring>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <glm/vec4.hpp>
 
 #include "blend/blend_factor.h"
@@ -39,6 +43,21 @@ inline glm::vec4 store4(v4f v) {
 }
 inline v4f splat(float x) { return v4f{x, x, x, x}; }
 inline v4f select(v4i mask, v4f a, v4f b) { return mask ? a : b; }
+// The first Channels of four 8-bit codes (0..255 in 32-bit lanes) into an 8-bit texel. All four
+// are narrowed together by two packing instructions and stored as one word: lane by lane (and as
+// GCC compiles __builtin_convertvector to bytes), each was extracted, shifted and or-ed into place.
+template <int Channels>
+inline void storeUnorm8Codes(v4i codes, uint8_t* texel) {
+#if defined(__SSE2__)
+  if constexpr (Channels == 4) {
+    const __m128i words = _mm_packs_epi32(__m128i(codes), __m128i(codes));  // SSE2; exact for 0..255
+    const int32_t bytes = _mm_cvtsi128_si32(_mm_packus_epi16(words, words));
+    std::memcpy(texel, &bytes, 4);
+    return;
+  }
+#endif
+  for (int c = 0; c < Channels; ++c) texel[c] = uint8_t(codes[c]);
+}
 
 // Two pixels' four channels side by side (the batch kernels): the same per-lane operations.
 typedef float v8f __attribute__((vector_size(32)));

@@ -203,7 +203,7 @@ UI_INLINE void run8(const UnormIntegerPlan& p, const glm::vec4& source, uint8_t*
   df[3] = factor8(State.dstAlpha, s, d, ad, c)[3];
   v4i r = equation8(State.equationRgb, s, d, sf, df);
   if constexpr (State.equationAlpha != State.equationRgb) r[3] = equation8(State.equationAlpha, s, d, sf, df)[3];
-  for (int ch = 0; ch < Channels; ++ch) texel[ch] = uint8_t(r[ch]);
+  storeUnorm8Codes<Channels>(r, texel);
 }
 
 // `run` with the blend state and an 8-bit layout of Channels channels, all written, as
@@ -223,6 +223,17 @@ void compiled(const UnormIntegerPlan& plan, const glm::vec4& source, uint8_t* te
   run(p, source, texel);
 }
 
+// The batch of `compiled`: run8 inlined for each pixel of the batch (the pixels are distinct, so
+// their order changes nothing), instead of a call through a pointer per pixel.
+template <BlendState State, int Channels>
+void compiledBatch(const UnormIntegerPlan& plan, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+  if (plan.lerp) {
+    for (int i = 0; i < n; ++i) compiled<State, Channels>(plan, *sources[i], texels[i]);
+    return;
+  }
+  for (int i = 0; i < n; ++i) run8<State, Channels>(plan, *sources[i], texels[i]);
+}
+
 struct CompiledEntry {
   BlendState state;
   int channels;
@@ -231,7 +242,7 @@ struct CompiledEntry {
 };
 template <BlendState State, int Channels>
 constexpr CompiledEntry entry() {
-  return {State, Channels, &compiled<State, Channels>, &batchOf<&compiled<State, Channels>>};
+  return {State, Channels, &compiled<State, Channels>, &compiledBatch<State, Channels>};
 }
 template <size_t... I>
 constexpr auto compiledTable(std::index_sequence<I...>) {

@@ -53,8 +53,7 @@ struct Unorm8Texels {
   }
   template <int Channels>
   static void store(const Profile& profile, v4f value, uint8_t* texel) {
-    const v4i codes = encodeUnorm4(value, 8, profile.unorm);
-    for (int c = 0; c < Channels; ++c) texel[c] = uint8_t(codes[c]);
+    storeUnorm8Codes<Channels>(encodeUnorm4(value, 8, profile.unorm), texel);
   }
 };
 struct HalfTexels {
