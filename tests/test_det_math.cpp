@@ -53,6 +53,11 @@ TEST_CASE("det math: the batched exp gives detExp's bits in every lane", "[detma
     x.push_back(special);
   for (int i = 0; i < 100001; ++i)
     x.push_back(double(rng.uniform(-60.0f, 60.0f)) * (i % 7 == 0 ? 12.0 : 1.0) + double(rng.uniform(-1, 1)) * 1e-9);
+  // Where ldexp's result is subnormal or overflows (the batch scales in two steps there), and the
+  // arguments whose k = x·log2(e) lies half-way between integers (nearbyint's ties).
+  for (int i = 0; i <= 40000; ++i) x.push_back(-745.0 + i * (45.0 / 40000.0));
+  for (int i = 0; i <= 10000; ++i) x.push_back(700.0 + i * (9.0 / 10000.0));
+  for (int k = -1075; k <= 1023; ++k) x.push_back((k + 0.5) / 1.44269504088896338700);
   std::vector<double> batched(x.size());
   methods::detExpBatch(x.data(), batched.data(), int(x.size()));
   size_t different = 0;
