@@ -37,19 +37,39 @@ Weight parseWeight(const std::string& w) {
   return Weight::One;  // MethodOptions has already checked the choice
 }
 
-float weight(Weight kind, float alpha, float windowZ, float viewZ) {
+template <Weight Kind>
+float weightAs(float alpha, float windowZ, float viewZ) {
+  if constexpr (Kind == Weight::One) return 1.0f;
+  else if constexpr (Kind == Weight::Z3) return 1.0f / powInt(windowZ, 3);
+  else if constexpr (Kind == Weight::Z5) return 1.0f / powInt(windowZ, 5);
+  else if constexpr (Kind == Weight::AZ3) return alpha / powInt(windowZ, 3);
+  else if constexpr (Kind == Weight::AZ5) return alpha / powInt(windowZ, 5);
+  else if constexpr (Kind == Weight::MB7) return alpha * std::clamp(10.0f / (1e-5f + powInt(viewZ / 5.0f, 2) + powInt(viewZ / 200.0f, 6)), 1e-2f, 3e3f);
+  else if constexpr (Kind == Weight::MB8) return alpha * std::clamp(10.0f / (1e-5f + powInt(viewZ / 10.0f, 3) + powInt(viewZ / 200.0f, 6)), 1e-2f, 3e3f);
+  else if constexpr (Kind == Weight::MB9) return alpha * std::clamp(0.03f / (1e-5f + powInt(viewZ / 200.0f, 4)), 1e-2f, 3e3f);
+  else return alpha * std::max(1e-2f, 3e3f * powInt(1.0f - windowZ, 3));  // MB10
+}
+
+// f(weightAs<K>) for the weight chosen at run time: decided once per call, so that a batch's loop
+// runs the one expression (not a switch per fragment).
+template <typename F>
+auto withWeight(Weight kind, F&& f) {
   switch (kind) {
-    case Weight::One: return 1.0f;
-    case Weight::Z3: return 1.0f / powInt(windowZ, 3);
-    case Weight::Z5: return 1.0f / powInt(windowZ, 5);
-    case Weight::AZ3: return alpha / powInt(windowZ, 3);
-    case Weight::AZ5: return alpha / powInt(windowZ, 5);
-    case Weight::MB7: return alpha * std::clamp(10.0f / (1e-5f + powInt(viewZ / 5.0f, 2) + powInt(viewZ / 200.0f, 6)), 1e-2f, 3e3f);
-    case Weight::MB8: return alpha * std::clamp(10.0f / (1e-5f + powInt(viewZ / 10.0f, 3) + powInt(viewZ / 200.0f, 6)), 1e-2f, 3e3f);
-    case Weight::MB9: return alpha * std::clamp(0.03f / (1e-5f + powInt(viewZ / 200.0f, 4)), 1e-2f, 3e3f);
-    case Weight::MB10: return alpha * std::max(1e-2f, 3e3f * powInt(1.0f - windowZ, 3));
+    case Weight::One: return f(weightAs<Weight::One>);
+    case Weight::Z3: return f(weightAs<Weight::Z3>);
+    case Weight::Z5: return f(weightAs<Weight::Z5>);
+    case Weight::AZ3: return f(weightAs<Weight::AZ3>);
+    case Weight::AZ5: return f(weightAs<Weight::AZ5>);
+    case Weight::MB7: return f(weightAs<Weight::MB7>);
+    case Weight::MB8: return f(weightAs<Weight::MB8>);
+    case Weight::MB9: return f(weightAs<Weight::MB9>);
+    case Weight::MB10: break;
   }
-  return 1.0f;
+  return f(weightAs<Weight::MB10>);
+}
+
+float weight(Weight kind, float alpha, float windowZ, float viewZ) {
+  return withWeight(kind, [&](auto w) { return w(alpha, windowZ, viewZ); });
 }
 
 class Wboit final : public Method {
@@ -87,10 +107,14 @@ class Wboit final : public Method {
     // Steps 4, 7–12: accum += (c·α·w, α·w) (S_accum, eq. 2.6), reveal *= (1 − α).
     const Weight kind = weight_;
     const bool adaptive = adaptive_;
-    accumulateWeighted(run, t, accum, reveal, [&](const FragmentInput& in, const glm::vec4& c) {
-      float z = in.depth;
-      if (adaptive) z = z / float(depth.depth(in.x, in.y));  // z / z_s: the opaque depth behind it
-      return weight(kind, c.a, z, in.viewDepth);
+    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentInput* in, const glm::vec4* c, float* w, int count) {
+      float z[kShaderBatch];
+      for (int i = 0; i < count; ++i) z[i] = in[i].depth;
+      if (adaptive)
+        for (int i = 0; i < count; ++i) z[i] = z[i] / float(depth.depth(in[i].x, in[i].y));  // z / z_s: the opaque depth behind it
+      withWeight(kind, [&](auto weightOf) {
+        for (int i = 0; i < count; ++i) w[i] = weightOf(c[i].a, z[i], in[i].viewDepth);
+      });
     });
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
     compositeWeighted(run, t, accum, reveal);
