@@ -133,8 +133,23 @@ TEST_CASE("format: every UNORM16 code decodes to k/65535 and encodes back to its
   }
 }
 
+TEST_CASE("Image::fetch gives decodeTexel's bits for every 8-bit code in each UNORM8 layout", "[format]") {
+  // fetch reads r8, rg8 and rgba8 inline through the decode table; decodeTexel is the oracle.
+  for (const char* name : {"r8", "rg8", "rgba8"}) {
+    const Format f = parseFormat(name);
+    Image image(f, 256, 1);
+    for (int k = 0; k < 256; ++k)
+      for (int c = 0; c < f.channels; ++c) image.texel(k, 0)[c] = uint8_t(k * (2 * c + 1) + 17 * c);
+    for (int k = 0; k < 256; ++k) {
+      const glm::vec4 got = image.fetch(k, 0), want = decodeTexel(f, image.texel(k, 0));
+      INFO(name << " texel " << k);
+      CHECK(std::memcmp(&got, &want, sizeof got) == 0);
+    }
+  }
+}
+
 TEST_CASE("Image::fetch gives decodeTexel's bits for every format, fp32 payloads included", "[format]") {
-  // fetch reads fp32 layouts inline and every other format through its decoder; decodeTexel
+  // fetch reads fp32 and UNORM8 layouts inline and every other format through its decoder; decodeTexel
   // (the general decoder) is the oracle, bit for bit: a signalling NaN with a payload, −0, a
   // denormal and infinities must come back unchanged.
   const uint32_t specials[] = {0x7f800001u, 0xff812345u, 0x80000000u, 0x00000001u, 0x7f800000u, 0xff800000u,

@@ -35,17 +35,23 @@ class Image {
   const std::vector<uint8_t>& bytes() const { return bytes_; }
 
   // texelFetch semantics: the stored value decoded exactly.
-  // The fp32 layouts are fetched inline: their decoding is the copy (missing channels 0, alpha 1,
-  // as every decoder gives); through the decoder's pointer, the call cost a composite 10 %.
+  // The fp32 and 8-bit UNORM layouts are fetched inline (missing channels 0, alpha 1, as every
+  // decoder gives): fp32's decoding is the copy, UNORM8's the decoder's own table of k/255 per
+  // channel. Through the decoder's pointer, the call cost a composite 10 % (fp32) and a third of
+  // depth peeling's RGBA8 "under" passes' fetch.
   glm::vec4 fetch(int x, int y) const {
     const uint8_t* t = texel(x, y);
     glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f);
-    switch (float32Channels_) {
-      case 4: std::memcpy(&v, t, 16); return v;
-      case 2: std::memcpy(&v, t, 8); return v;
-      case 1: std::memcpy(&v, t, 4); return v;
-      default: return decoder_(format_, t);
+    switch (inlineLayout_) {
+      case InlineLayout::Float32x4: std::memcpy(&v, t, 16); return v;
+      case InlineLayout::Float32x2: std::memcpy(&v, t, 8); return v;
+      case InlineLayout::Float32x1: std::memcpy(&v, t, 4); return v;
+      case InlineLayout::Unorm8x4: return {unorm8_[t[0]], unorm8_[t[1]], unorm8_[t[2]], unorm8_[t[3]]};
+      case InlineLayout::Unorm8x2: v.x = unorm8_[t[0]], v.y = unorm8_[t[1]]; return v;
+      case InlineLayout::Unorm8x1: v.x = unorm8_[t[0]]; return v;
+      case InlineLayout::None: break;
     }
+    return decoder_(format_, t);
   }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
   void store(int x, int y, const glm::vec4& value, const Profile& profile);
@@ -59,7 +65,9 @@ class Image {
   int width_ = 0, height_ = 0;
   size_t texelBytes_ = 0;
   TexelDecoder decoder_ = decodeTexel;
-  int float32Channels_ = 0;  // 4, 2 or 1 for rgba32f, rg32f, r32f (fetched inline), else 0
+  enum class InlineLayout : uint8_t { None, Float32x4, Float32x2, Float32x1, Unorm8x4, Unorm8x2, Unorm8x1 };
+  InlineLayout inlineLayout_ = InlineLayout::None;  // how fetch reads this format
+  const float* unorm8_ = nullptr;                   // k/255 for each 8-bit code (the UNORM8 layouts)
   std::vector<uint8_t> bytes_;
 };
 

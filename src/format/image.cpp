@@ -1,6 +1,7 @@
 #include "oitref/image.h"
 
 #include "oitref/fp_environment.h"
+#include "format/unorm8_decode.h"
 
 #include <algorithm>
 #include <cstring>
@@ -19,8 +20,16 @@ Image::Image(Format format, int width, int height) : format_(format), width_(wid
                                 " outside 1.." + std::to_string(kMaxDimension));
   texelBytes_ = size_t(format.bytesPerTexel());
   decoder_ = texelDecoder(format);
-  if (!format.isPacked() && format.encoding() == ChannelEncoding::Float32 && format.channels != 3)
-    float32Channels_ = format.channels;
+  switch (format.id) {
+    case FormatId::RGBA32F: inlineLayout_ = InlineLayout::Float32x4; break;
+    case FormatId::RG32F: inlineLayout_ = InlineLayout::Float32x2; break;
+    case FormatId::R32F: inlineLayout_ = InlineLayout::Float32x1; break;
+    case FormatId::RGBA8: inlineLayout_ = InlineLayout::Unorm8x4; break;
+    case FormatId::RG8: inlineLayout_ = InlineLayout::Unorm8x2; break;
+    case FormatId::R8: inlineLayout_ = InlineLayout::Unorm8x1; break;
+    default: break;
+  }
+  unorm8_ = detail::kUnorm8Decode.data();
   bytes_.assign(imageBytes(format, width, height), 0);
 }
 
