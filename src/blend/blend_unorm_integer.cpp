@@ -157,31 +157,44 @@ void batchOf(const UnormIntegerPlan& plan, const glm::vec4* const* sources, uint
   for (int i = 0; i < n; ++i) Blend(plan, *sources[i], texels[i]);
 }
 
-// `run` for 8-bit layouts with every channel written, the four channels in vector lanes (32-bit
-// lanes hold a·b ≤ 255² exactly): factorInteger, equationInteger and mulUnormInteger lane by
-// lane, as one vector each. Lanes past the layout's channels are computed and not stored.
-UI_INLINE v4i factor8(BlendFactor f, v4i s, v4i d, int32_t ad, v4i c) {
+// `run` for 8-bit layouts with every channel written, the four channels of a pixel in vector
+// lanes (32-bit lanes hold a·b ≤ 255² exactly): factorInteger, equationInteger and
+// mulUnormInteger lane by lane, as one vector each. V = v4i: one pixel; V = v8i: two, pixel p's
+// channel ch in lane 4p + ch. `alpha`: −1 in the alpha lanes; `ad`: each pixel's destination
+// alpha (255 without one) in all its lanes. Lanes past the layout's channels are computed and not
+// stored.
+template <typename V>
+UI_INLINE V eachPixelAlpha(V v) {
+  if constexpr (sizeof(V) == 16) return __builtin_shufflevector(v, v, 3, 3, 3, 3);
+  else return __builtin_shufflevector(v, v, 3, 3, 3, 3, 7, 7, 7, 7);
+}
+template <typename V>
+UI_INLINE V factor8(BlendFactor f, V s, V d, V ad, V c, V alpha) {
   const FactorRow fr = factorRow(f);
-  const int32_t saturate = s[3] < 255 - ad ? s[3] : 255 - ad;
-  v4i v{};
+  V v{};
   switch (fr.row) {
-    case 0: v = v4i{0, 0, 0, 0}; break;
+    case 0: v = V{}; break;
     case 1: v = s; break;
-    case 2: v = v4i{d[0], d[1], d[2], ad}; break;
-    case 3: v = v4i{s[3], s[3], s[3], s[3]}; break;
-    case 4: v = v4i{ad, ad, ad, ad}; break;
+    case 2: v = alpha ? ad : d; break;
+    case 3: v = eachPixelAlpha(s); break;
+    case 4: v = ad; break;
     case 5: v = c; break;
-    case 6: v = v4i{c[3], c[3], c[3], c[3]}; break;
-    case 7: v = v4i{saturate, saturate, saturate, 255}; break;
+    case 6: v = eachPixelAlpha(c); break;
+    case 7: {
+      const V sa = eachPixelAlpha(s), room = 255 - ad;
+      v = alpha ? V{} + 255 : sa < room ? sa : room;
+      break;
+    }
   }
   return fr.oneMinus ? 255 - v : v;
 }
-UI_INLINE v4i equation8(BlendEquation eq, v4i s, v4i d, v4i sf, v4i df) {
-  auto mul = [](v4i x, v4i y) {
-    const v4i ab = x * y;
+template <typename V>
+UI_INLINE V equation8(BlendEquation eq, V s, V d, V sf, V df) {
+  auto mul = [](V x, V y) {
+    const V ab = x * y;
     return (ab + (ab >> 8) + 128) >> 8;
   };
-  v4i r{};
+  V r{};
   switch (eq) {
     case BlendEquation::Add: r = mul(s, sf) + mul(d, df); break;
     case BlendEquation::Subtract: r = mul(s, sf) - mul(d, df); break;
@@ -192,18 +205,42 @@ UI_INLINE v4i equation8(BlendEquation eq, v4i s, v4i d, v4i sf, v4i df) {
   r = r < 0 ? 0 : r;
   return r > 255 ? 255 : r;  // saturating, as the integer ops are
 }
+// The blend of codes s over d (the state's factors per lane: RGB's, alpha's in the alpha lanes).
+template <BlendState State, typename V>
+UI_INLINE V blendCodes8(V s, V d, V ad, V c) {
+  constexpr v4i alphaLane{0, 0, 0, -1};
+  V alpha;
+  if constexpr (sizeof(V) == 16) alpha = alphaLane;
+  else alpha = __builtin_shufflevector(alphaLane, alphaLane, 0, 1, 2, 3, 0, 1, 2, 3);
+  const V sf = alpha ? factor8(State.srcAlpha, s, d, ad, c, alpha) : factor8(State.srcRgb, s, d, ad, c, alpha);
+  const V df = alpha ? factor8(State.dstAlpha, s, d, ad, c, alpha) : factor8(State.dstRgb, s, d, ad, c, alpha);
+  const V r = equation8(State.equationRgb, s, d, sf, df);
+  if constexpr (State.equationAlpha != State.equationRgb) return alpha ? equation8(State.equationAlpha, s, d, sf, df) : r;
+  return r;
+}
 template <BlendState State, int Channels>
 UI_INLINE void run8(const UnormIntegerPlan& p, const glm::vec4& source, uint8_t* texel) {
   const v4i s = encodeUnorm4(load4(source), 8, p.rounding);
   const v4i d{texel[0], Channels > 1 ? texel[1] : 0, Channels > 2 ? texel[2] : 0, Channels == 4 ? texel[3] : 255};
-  const int32_t ad = Channels == 4 ? d[3] : 255;
+  const v4i ad = Channels == 4 ? eachPixelAlpha(d) : v4i{255, 255, 255, 255};
   const v4i c{int32_t(p.constant[0]), int32_t(p.constant[1]), int32_t(p.constant[2]), int32_t(p.constant[3])};
-  v4i sf = factor8(State.srcRgb, s, d, ad, c), df = factor8(State.dstRgb, s, d, ad, c);
-  sf[3] = factor8(State.srcAlpha, s, d, ad, c)[3];
-  df[3] = factor8(State.dstAlpha, s, d, ad, c)[3];
-  v4i r = equation8(State.equationRgb, s, d, sf, df);
-  if constexpr (State.equationAlpha != State.equationRgb) r[3] = equation8(State.equationAlpha, s, d, sf, df)[3];
-  storeUnorm8Codes<Channels>(r, texel);
+  storeUnorm8Codes<Channels>(blendCodes8<State>(s, d, ad, c), texel);
+}
+// run8 on two RGBA8 pixels at once (v8i lanes): the same expressions per lane.
+template <BlendState State>
+UI_INLINE void run8Pair(const UnormIntegerPlan& p, const glm::vec4& source0, const glm::vec4& source1, uint8_t* texel0,
+                        uint8_t* texel1) {
+  const v4i s0 = encodeUnorm4(load4(source0), 8, p.rounding), s1 = encodeUnorm4(load4(source1), 8, p.rounding);
+  const v8i s = __builtin_shufflevector(s0, s1, 0, 1, 2, 3, 4, 5, 6, 7);
+  typedef uint8_t v8u8 __attribute__((vector_size(8)));
+  v8u8 bytes;
+  std::memcpy(&bytes, texel0, 4), std::memcpy(reinterpret_cast<uint8_t*>(&bytes) + 4, texel1, 4);
+  const v8i d = __builtin_convertvector(bytes, v8i);
+  const v4i c4{int32_t(p.constant[0]), int32_t(p.constant[1]), int32_t(p.constant[2]), int32_t(p.constant[3])};
+  const v8i c = __builtin_shufflevector(c4, c4, 0, 1, 2, 3, 0, 1, 2, 3);
+  const v8i r = blendCodes8<State>(s, d, eachPixelAlpha(d), c);
+  storeUnorm8Codes<4>(__builtin_shufflevector(r, r, 0, 1, 2, 3), texel0);
+  storeUnorm8Codes<4>(__builtin_shufflevector(r, r, 4, 5, 6, 7), texel1);
 }
 
 // `run` with the blend state and an 8-bit layout of Channels channels, all written, as
@@ -223,26 +260,47 @@ void compiled(const UnormIntegerPlan& plan, const glm::vec4& source, uint8_t* te
   run(p, source, texel);
 }
 
-// The batch of `compiled`: run8 inlined for each pixel of the batch (the pixels are distinct, so
-// their order changes nothing), instead of a call through a pointer per pixel.
+// The batch of `compiled`: run8 inlined for each pixel of the batch, RGBA8 two pixels at a time
+// (the pixels are distinct, so their order changes nothing), instead of a call through a pointer
+// per pixel. Compiled twice: for the build's ISA and for AVX2 (its 256-bit integer operations on
+// the two pixels' lanes; chosen at run time where the CPU has it, the same operations per lane).
 template <BlendState State, int Channels>
-void compiledBatch(const UnormIntegerPlan& plan, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+UI_INLINE void compiledBatchBody(const UnormIntegerPlan& plan, const glm::vec4* const* sources, uint8_t* const* texels,
+                                 int n) {
   if (plan.lerp) {
     for (int i = 0; i < n; ++i) compiled<State, Channels>(plan, *sources[i], texels[i]);
     return;
   }
-  for (int i = 0; i < n; ++i) run8<State, Channels>(plan, *sources[i], texels[i]);
+  int i = 0;
+  if constexpr (Channels == 4)
+    for (; i + 2 <= n; i += 2) run8Pair<State>(plan, *sources[i], *sources[i + 1], texels[i], texels[i + 1]);
+  for (; i < n; ++i) run8<State, Channels>(plan, *sources[i], texels[i]);
 }
+template <BlendState State, int Channels>
+void compiledBatch(const UnormIntegerPlan& plan, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+  compiledBatchBody<State, Channels>(plan, sources, texels, n);
+}
+#if defined(__x86_64__)
+template <BlendState State, int Channels>
+[[gnu::target("avx2")]] void compiledBatchAvx2(const UnormIntegerPlan& plan, const glm::vec4* const* sources,
+                                               uint8_t* const* texels, int n) {
+  compiledBatchBody<State, Channels>(plan, sources, texels, n);
+}
+#endif
 
 struct CompiledEntry {
   BlendState state;
   int channels;
   UnormIntegerBlendFn fn;
-  UnormIntegerBatchFn batch;
+  UnormIntegerBatchFn batch, batchAvx2;
 };
 template <BlendState State, int Channels>
 constexpr CompiledEntry entry() {
-  return {State, Channels, &compiled<State, Channels>, &compiledBatch<State, Channels>};
+#if defined(__x86_64__)
+  return {State, Channels, &compiled<State, Channels>, &compiledBatch<State, Channels>, &compiledBatchAvx2<State, Channels>};
+#else
+  return {State, Channels, &compiled<State, Channels>, &compiledBatch<State, Channels>, &compiledBatch<State, Channels>};
+#endif
 }
 template <size_t... I>
 constexpr auto compiledTable(std::index_sequence<I...>) {
@@ -292,7 +350,12 @@ UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& p, bool special
 
 UnormIntegerBatchFn unormIntegerBatchFor(const UnormIntegerPlan& p, bool specialised) {
   const CompiledEntry* e = specialised ? compiledFor(p) : nullptr;
-  return e ? e->batch : batchOf<general>;
+  if (!e) return batchOf<general>;
+#if defined(__x86_64__)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  if (avx2) return e->batchAvx2;
+#endif
+  return e->batch;
 }
 
 void blendUnormInteger(const Format& f, const BlendState& state, const glm::vec4& constant, UnormRounding rounding,
