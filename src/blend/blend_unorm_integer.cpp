@@ -260,11 +260,12 @@ void compiled(const UnormIntegerPlan& plan, const glm::vec4& source, uint8_t* te
   run(p, source, texel);
 }
 
-// The batch of `compiled`: run8 inlined for each pixel of the batch, RGBA8 two pixels at a time
-// (the pixels are distinct, so their order changes nothing), instead of a call through a pointer
-// per pixel. Compiled twice: for the build's ISA and for AVX2 (its 256-bit integer operations on
-// the two pixels' lanes; chosen at run time where the CPU has it, the same operations per lane).
-template <BlendState State, int Channels>
+// The batch of `compiled`: run8 inlined for each pixel of the batch (the pixels are distinct, so
+// their order changes nothing), instead of a call through a pointer per pixel. Compiled twice: for
+// the build's ISA, and for AVX2 with RGBA8 two pixels at a time (its 256-bit integer operations on
+// the pair's lanes; chosen at run time where the CPU has it, the same operations per lane). Split
+// into 128-bit halves without AVX2, the pair was slower than one pixel at a time.
+template <BlendState State, int Channels, bool Pairs>
 UI_INLINE void compiledBatchBody(const UnormIntegerPlan& plan, const glm::vec4* const* sources, uint8_t* const* texels,
                                  int n) {
   if (plan.lerp) {
@@ -272,19 +273,19 @@ UI_INLINE void compiledBatchBody(const UnormIntegerPlan& plan, const glm::vec4* 
     return;
   }
   int i = 0;
-  if constexpr (Channels == 4)
+  if constexpr (Pairs && Channels == 4)
     for (; i + 2 <= n; i += 2) run8Pair<State>(plan, *sources[i], *sources[i + 1], texels[i], texels[i + 1]);
   for (; i < n; ++i) run8<State, Channels>(plan, *sources[i], texels[i]);
 }
 template <BlendState State, int Channels>
 void compiledBatch(const UnormIntegerPlan& plan, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
-  compiledBatchBody<State, Channels>(plan, sources, texels, n);
+  compiledBatchBody<State, Channels, false>(plan, sources, texels, n);
 }
 #if defined(__x86_64__)
 template <BlendState State, int Channels>
 [[gnu::target("avx2")]] void compiledBatchAvx2(const UnormIntegerPlan& plan, const glm::vec4* const* sources,
                                                uint8_t* const* texels, int n) {
-  compiledBatchBody<State, Channels>(plan, sources, texels, n);
+  compiledBatchBody<State, Channels, true>(plan, sources, texels, n);
 }
 #endif
 
