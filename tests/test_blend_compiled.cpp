@@ -120,3 +120,45 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
   }
   CHECK(compared == 9 * 3 * int(states.size()) * 2 * 7);
 }
+
+// llvmpipe's UNORM8 integer blend has two compiled batches per method state: the build's ISA (one
+// pixel per step) and AVX2 (RGBA8 two pixels per step), chosen by the CPU. Both, whatever this
+// machine chooses, against the general per-texel function, every batch size from 1 to 9.
+TEST_CASE("blend: both ISA variants of llvmpipe's UNORM8 batch give the general function's bits", "[blend]") {
+  test::BitStream rng(78);
+  int compared = 0;
+  for (const char* name : {"rgba8", "rg8", "r8"}) {
+    const Format f = parseFormat(name);
+    const int bytes = f.bytesPerTexel();
+    for (const BlendState& state : detail::states::kMethodBlendStates)
+      for (const UnormRounding rounding : {llvmpipeProfile().unorm, exactProfile().unorm}) {
+        glm::vec4 constant;
+        for (int k = 0; k < 4; ++k) constant[k] = rng.uniform(-0.5f, 1.5f);
+        const detail::UnormIntegerPlan plan = detail::planUnormInteger(f, state, constant, rounding, (1u << f.channels) - 1);
+        const detail::UnormIntegerBlendFn general = detail::unormIntegerBlendFor(plan, false);
+        for (const bool allowAvx2 : {false, true}) {
+          const detail::UnormIntegerBatchFn batch = detail::unormIntegerBatchFor(plan, true, allowAvx2);
+          for (int n = 1; n <= 9; ++n) {
+            std::vector<glm::vec4> sources(static_cast<size_t>(n));
+            std::vector<uint8_t> batched(size_t(n * bytes));
+            for (glm::vec4& s : sources)
+              for (int k = 0; k < 4; ++k) s[k] = interesting(rng);
+            for (uint8_t& b : batched) b = uint8_t(rng.next());
+            std::vector<uint8_t> expected = batched;
+            std::vector<const glm::vec4*> sourcePointers;
+            std::vector<uint8_t*> texels;
+            for (int i = 0; i < n; ++i) {
+              sourcePointers.push_back(&sources[size_t(i)]);
+              texels.push_back(&batched[size_t(i * bytes)]);
+              general(plan, sources[size_t(i)], &expected[size_t(i * bytes)]);
+            }
+            batch(plan, sourcePointers.data(), texels.data(), n);
+            INFO(name << " " << state.describe() << " AVX2 allowed " << allowAvx2 << " n " << n);
+            CHECK(batched == expected);
+            ++compared;
+          }
+        }
+      }
+  }
+  CHECK(compared == 3 * int(std::size(detail::states::kMethodBlendStates)) * 2 * 2 * 9);
+}

@@ -349,12 +349,12 @@ UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& p, bool special
   return e ? e->fn : general;
 }
 
-UnormIntegerBatchFn unormIntegerBatchFor(const UnormIntegerPlan& p, bool specialised) {
+UnormIntegerBatchFn unormIntegerBatchFor(const UnormIntegerPlan& p, bool specialised, bool allowAvx2) {
   const CompiledEntry* e = specialised ? compiledFor(p) : nullptr;
   if (!e) return batchOf<general>;
 #if defined(__x86_64__)
   static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (avx2) return e->batchAvx2;
+  if (avx2 && allowAvx2) return e->batchAvx2;
 #endif
   return e->batch;
 }

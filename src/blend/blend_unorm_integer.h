@@ -54,10 +54,11 @@ using UnormIntegerBlendFn = void (*)(const UnormIntegerPlan&, const glm::vec4& s
 // is a method blend state (method_blend_states.h): the same bits. `specialised` false: the general one.
 UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& plan, bool specialised = true);
 // The same over a batch: sources[i] into texels[i], i < n, one call (the per-texel function
-// inlined into the loop).
+// inlined into the loop). A compiled batch has a variant for AVX2, taken where the CPU has it;
+// `allowAvx2` false asks for the build's own (the tests run both).
 using UnormIntegerBatchFn = void (*)(const UnormIntegerPlan&, const glm::vec4* const* sources, uint8_t* const* texels,
                                      int n);
-UnormIntegerBatchFn unormIntegerBatchFor(const UnormIntegerPlan& plan, bool specialised = true);
+UnormIntegerBatchFn unormIntegerBatchFor(const UnormIntegerPlan& plan, bool specialised = true, bool allowAvx2 = true);
 
 void blendUnormInteger(const Format& format, const BlendState& state, const glm::vec4& constant, UnormRounding rounding,
                        const glm::vec4& source, unsigned writeMask, uint8_t* texel);
