@@ -168,8 +168,7 @@ inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
 // accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,
 // ONE_MINUS_SRC_COLOR, against the opaque depth; weights(const FragmentInput* in,
 // const glm::vec4* colors, float* w, int count) sets each fragment's w of a batch at once
-// (count ≤ kShaderBatch); accumulateWeighted takes weight(const FragmentInput&, const glm::vec4&)
-// -> float, one fragment at a time.
+// (count ≤ kShaderBatch).
 Framebuffer weightedAccumulationTargets(FrameTargets& targets, Image& accum, Image& reveal);
 PipelineState weightedAccumulationState(const Profile& profile);
 template <typename Weights>
@@ -185,13 +184,6 @@ void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accu
                                out[i].write(1, glm::vec4(c.a));
                              }
                            });
-}
-template <typename Weight>
-void accumulateWeighted(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weight& weight) {
-  accumulateWeightedBatch(run, targets, accum, reveal,
-                          [&weight](const FragmentInput* in, const glm::vec4* colors, float* w, int count) {
-                            for (int i = 0; i < count; ++i) w[i] = weight(in[i], colors[i]);
-                          });
 }
 
 // The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal)

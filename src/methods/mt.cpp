@@ -48,34 +48,58 @@ class Mt final : public Method {
     reveal.clear(glm::vec4(1.0f), profile);
     const Camera& cam = context.scene.camera;
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
-    auto unitDepth = [&](const FragmentInput& in) {
-      return float(detLog(double(in.viewDepth) / double(cam.nearPlane)) / logRange);
+    // The fragments' depths in [0, 1]: ln(view depth / near) / ln(far / near), a batch's
+    // logarithms together (detLogBatch: the same bits as detLog).
+    auto unitDepths = [&](const FragmentInput* in, int count, float* u) {
+      double x[kShaderBatch], ln[kShaderBatch];
+      for (int i = 0; i < count; ++i) x[i] = double(in[i].viewDepth) / double(cam.nearPlane);
+      detLogBatch(x, ln, count);
+      for (int i = 0; i < count; ++i) u[i] = float(ln[i] / logRange);
     };
 
     Framebuffer momentFb;
     momentFb.color[0] = &opticalDepth;
     momentFb.color[1] = &moments;
     momentFb.depth = &t.depth("depth");
-    run.transparentPass("moments", momentFb, transparentState(profile, additiveBlend()),
-                        [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
-                          const float a = float(-detLog(1.0 - double(std::min(c.a, 1.0f - 0.5f / 256.0f))));
-                          const float u = unitDepth(in), u2 = u * u;
-                          out.write(0, glm::vec4(a));
-                          out.write(1, glm::vec4(u, u2, u2 * u, u2 * u2) * a);
-                        });
+    // The optical depths −ln(1 − α) of a batch together (detLogBatch: the same bits as detLog).
+    run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
+                             [&](const FragmentInput* in, const glm::vec4* c, FragmentOutput* out, int count) {
+                               double x[kShaderBatch], ln[kShaderBatch];
+                               float depth[kShaderBatch];
+                               for (int i = 0; i < count; ++i) x[i] = 1.0 - double(std::min(c[i].a, 1.0f - 0.5f / 256.0f));
+                               detLogBatch(x, ln, count);
+                               unitDepths(in, count, depth);
+                               for (int i = 0; i < count; ++i) {
+                                 const float a = float(-ln[i]);
+                                 const float u = depth[i], u2 = u * u;
+                                 out[i].write(0, glm::vec4(a));
+                                 out[i].write(1, glm::vec4(u, u2, u2 * u, u2 * u2) * a);
+                               }
+                             });
 
     const float bias = bias_;
     const float* biasVector = powerBiasVector(4, false);
     std::atomic<uint64_t> fallbacks{0};
-    accumulateWeighted(run, t, accum, reveal, [&](const FragmentInput& in, const glm::vec4&) {
-      const float total = opticalDepth.fetch(in.x, in.y).r;
-      glm::vec4 m = moments.fetch(in.x, in.y);
-      if (total != 0.0f) m /= total;
-      const float b[4] = {m.x, m.y, m.z, m.w};
-      bool fellBack = false;
-      const float bound = std::clamp(powerMomentAbsorbance(4, b, unitDepth(in), bias, biasVector, 0.0f, &fellBack), 0.0f, 1.0f);
-      if (fellBack) fallbacks.fetch_add(1, std::memory_order_relaxed);
-      return float(detExp(-double(bound) * double(total)));
+    // A batch at a time: the bounds in lanes (powerMomentAbsorbanceBatch) and the weights'
+    // exponentials together (detExpBatch), each the same bits as one fragment at a time.
+    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentInput* in, const glm::vec4*, float* w, int count) {
+      float b[4 * kShaderBatch], u[kShaderBatch], total[kShaderBatch], absorbance[kShaderBatch];
+      bool fellBack[kShaderBatch];
+      double exponent[kShaderBatch], weight[kShaderBatch];
+      for (int i = 0; i < count; ++i) {
+        total[i] = opticalDepth.fetch(in[i].x, in[i].y).r;
+        glm::vec4 m = moments.fetch(in[i].x, in[i].y);
+        if (total[i] != 0.0f) m /= total[i];
+        for (int k = 0; k < 4; ++k) b[4 * i + k] = m[k];
+      }
+      unitDepths(in, count, u);
+      powerMomentAbsorbanceBatch(4, b, u, count, bias, biasVector, 0.0f, absorbance, fellBack);
+      for (int i = 0; i < count; ++i) {
+        if (fellBack[i]) fallbacks.fetch_add(1, std::memory_order_relaxed);
+        exponent[i] = -double(std::clamp(absorbance[i], 0.0f, 1.0f)) * double(total[i]);
+      }
+      detExpBatch(exponent, weight, count);
+      for (int i = 0; i < count; ++i) w[i] = float(weight[i]);
     });
 
     compositeWeighted(run, t, accum, reveal);
