@@ -40,11 +40,11 @@ Geometry toClipGeometry(const ScenePart& part, const glm::mat4& viewProjection);
 // The object's straight RGBA at a surface point, from its interpolated attributes. Particles
 // multiply alpha by a soft radial falloff of the quad uv: (1 − r²)² inside the inscribed
 // circle (r = 1 at its edge), 0 outside. Only +, −, × are used: the same bits on every machine.
-// Inline: every transparent fragment calls it.
-inline glm::vec4 shadeSurface(const SceneObject& object, const float* a) {
-  glm::vec4 c(a[0], a[1], a[2], a[3]);
+// Inline: every transparent fragment calls it. Attribute k at a[k · stride].
+inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int stride = 1) {
+  glm::vec4 c(a[0], a[stride], a[2 * stride], a[3 * stride]);
   if (object.type == ObjectType::Particles) {
-    const float x = 2.0f * a[4] - 1.0f, y = 2.0f * a[5] - 1.0f;
+    const float x = 2.0f * a[4 * stride] - 1.0f, y = 2.0f * a[5 * stride] - 1.0f;
     const float r2 = x * x + y * y;
     const float falloff = r2 < 1.0f ? (1.0f - r2) * (1.0f - r2) : 0.0f;
     c.a = c.a * falloff;

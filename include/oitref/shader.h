@@ -26,13 +26,68 @@ struct FragmentInput {
   bool frontFacing = true;   // gl_FrontFacing
   uint32_t primitiveId = 0;  // gl_PrimitiveID: the triangle's index in its draw
   uint32_t drawId = 0;       // the draw's Renderer::DrawCall::drawId (0 for draw() and full-screen passes)
-  const float* attributes = nullptr;  // perspective-correct interpolated attributes
+  // The perspective-correct interpolated attributes: attribute i at attributes[i · attributeStride]
+  // (1 for one fragment; a batch's row length where the attributes are rows: FragmentBatch).
+  const float* attributes = nullptr;
   int attributeCount = 0;
+  int attributeStride = 1;
 
-  float attribute(int i) const { return attributes[i]; }
-  glm::vec2 vec2At(int i) const { return {attributes[i], attributes[i + 1]}; }
-  glm::vec3 vec3At(int i) const { return {attributes[i], attributes[i + 1], attributes[i + 2]}; }
-  glm::vec4 vec4At(int i) const { return {attributes[i], attributes[i + 1], attributes[i + 2], attributes[i + 3]}; }
+  float attribute(int i) const { return attributes[i * attributeStride]; }
+  glm::vec2 vec2At(int i) const { return {attribute(i), attribute(i + 1)}; }
+  glm::vec3 vec3At(int i) const { return {attribute(i), attribute(i + 1), attribute(i + 2)}; }
+  glm::vec4 vec4At(int i) const { return {attribute(i), attribute(i + 1), attribute(i + 2), attribute(i + 3)}; }
+};
+
+// Fragments of distinct pixels of one row and one primitive, as arrays (a structure of arrays):
+// fragment i is at (x[i], y), with window depth depth[i] and view depth viewDepth[i], and its
+// attribute k at attributes[k · attributeStride + i], so that a batch shader's loop over the
+// fragments reads each input as one contiguous row. What is the same for all (the row, the
+// primitive, the draw) is stored once. in[i] is fragment i as one FragmentInput.
+struct FragmentBatch {
+  static constexpr int kCapacity = 64;  // the most fragments the rasterizer puts into one batch
+  int count = 0;
+  int y = 0;
+  const int* x = nullptr;
+  const float* depth = nullptr;
+  const float* viewDepth = nullptr;
+  const float* attributes = nullptr;
+  int attributeCount = 0;
+  int attributeStride = 0;
+  bool frontFacing = true;
+  uint32_t primitiveId = 0;
+  uint32_t drawId = 0;
+
+  FragmentInput operator[](int i) const {
+    FragmentInput in;
+    in.x = x[i];
+    in.y = y;
+    in.fragCoord = {float(x[i]) + 0.5f, float(y) + 0.5f};
+    in.depth = depth[i];
+    in.viewDepth = viewDepth[i];
+    in.frontFacing = frontFacing;
+    in.primitiveId = primitiveId;
+    in.drawId = drawId;
+    in.attributes = attributes + i;
+    in.attributeCount = attributeCount;
+    in.attributeStride = attributeStride;
+    return in;
+  }
+  // The batch of the one fragment `in` (its fields point into `in`).
+  static FragmentBatch of(const FragmentInput& in) {
+    FragmentBatch b;
+    b.count = 1;
+    b.y = in.y;
+    b.x = &in.x;
+    b.depth = &in.depth;
+    b.viewDepth = &in.viewDepth;
+    b.attributes = in.attributes;
+    b.attributeCount = in.attributeCount;
+    b.attributeStride = in.attributeStride;
+    b.frontFacing = in.frontFacing;
+    b.primitiveId = in.primitiveId;
+    b.drawId = in.drawId;
+    return b;
+  }
 };
 
 class FragmentOutput {
@@ -68,11 +123,12 @@ class FragmentOutput {
 
 using FragmentShader = std::function<void(const FragmentInput&, FragmentOutput&)>;
 
-// The same shader over a batch of fragments of distinct pixels: out[i] for in[i], i < count, each
-// output reset beforehand. Optional, for speed (one call per batch, the per-fragment code inlined
-// into the loop); it must compute exactly what `shader` computes for each fragment, which stays
-// the oracle (RendererOptions::perFragment). programOf() below makes both from one callable.
-using FragmentBatchShader = std::function<void(const FragmentInput* in, FragmentOutput* out, int count)>;
+// The same shader over a batch: out[i] for in[i], i < in.count (1 ≤ in.count ≤
+// FragmentBatch::kCapacity), each output reset beforehand.
+// Optional, for speed (one call per batch, the per-fragment code inlined into the loop); it must
+// compute exactly what `shader` computes for each fragment, which stays the oracle
+// (RendererOptions::perFragment). programOf() below makes both from one callable.
+using FragmentBatchShader = std::function<void(const FragmentBatch& in, FragmentOutput* out)>;
 
 // A shader plus what it declares, which decides early or late depth testing (GL 4.6 §14.9.4,
 // §15.2.4): a shader that neither discards nor writes depth is tested before shading; one that
@@ -102,8 +158,8 @@ template <typename Shader>
 FragmentProgram programOf(Shader shader, bool mayDiscard = false, bool writesDepth = false,
                           bool earlyFragmentTests = false, bool pure = false) {
   FragmentProgram program{shader, mayDiscard, writesDepth, earlyFragmentTests, {}, pure};
-  program.batch = [shader](const FragmentInput* in, FragmentOutput* out, int count) {
-    for (int i = 0; i < count; ++i) shader(in[i], out[i]);
+  program.batch = [shader](const FragmentBatch& in, FragmentOutput* out) {
+    for (int i = 0; i < in.count; ++i) shader(in[i], out[i]);
   };
   return program;
 }

@@ -103,7 +103,8 @@ class Mboit final : public Method {
       momentFb.color[1] = momentImages[0];
       momentFb.color[2] = momentImages[1];
       run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
-                               [&](const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count) {
+                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentOutput* out) {
+                                 const int count = in.count;
                                  float absorbance[kShaderBatch];
                                  absorbancesOf(colors, count, absorbance);
                                  for (int i = 0; i < count; ++i) {
@@ -143,7 +144,8 @@ class Mboit final : public Method {
     std::atomic<uint64_t> fallbacks{0};  // a sum: the same for any order of the fragments
     // The weight e^(−b0·absorbance), the exponentials of a batch together (detExpBatch: the same
     // bits as one at a time, its division chains overlapped).
-    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentInput* in, const glm::vec4*, float* w, int count) {
+    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
+      const int count = in.count;
       double exponent[kShaderBatch], weight[kShaderBatch];
       bool clear[kShaderBatch];
       // The fragments that reconstruct (not clear), their normalised moments and depths side by
@@ -152,20 +154,20 @@ class Mboit final : public Method {
       float moments[kShaderBatch * 8], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
       bool fellBack[kShaderBatch];
       for (int i = 0; i < count; ++i) {
-        const float b0 = b0Image.fetch(in[i].x, in[i].y).r;
+        const float b0 = b0Image.fetch(in.x[i], in.y).r;
         clear[i] = b0 < 0.00100050033f;
         exponent[i] = 0.0;
         if (clear[i]) continue;
         float* b = moments + size_t(n) * size_t(reals);
         if (quantised) {
           float stored[8] = {};
-          loadMoments(in[i].x, in[i].y, stored);
+          loadMoments(in.x[i], in.y, stored);
           dequantiseMoments(set, stored, b);
         } else {
           // Straight from the fetched texels: through an array written lane by lane and read
           // whole, the divisions waited for the stores (no store forwarding).
-          const glm::vec4 lo = momentImages[0]->fetch(in[i].x, in[i].y);
-          const glm::vec4 hi = momentImages[1] ? momentImages[1]->fetch(in[i].x, in[i].y) : glm::vec4(0.0f);
+          const glm::vec4 lo = momentImages[0]->fetch(in.x[i], in.y);
+          const glm::vec4 hi = momentImages[1] ? momentImages[1]->fetch(in.x[i], in.y) : glm::vec4(0.0f);
           for (int k = 0; k < reals; ++k) b[k] = (k < 4 ? lo[k] : hi[k - 4]) / b0;
         }
         depths[n] = warp(in[i]);

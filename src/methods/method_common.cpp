@@ -96,7 +96,7 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
     if (part.transparent && !everything) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
     draws.push_back({&clipGeometry(part), programOf([&object](const FragmentInput& in, FragmentOutput& out) {
-                       const glm::vec4 c = shadeSurface(object, in.attributes);
+                       const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride);
                        out.write(0, glm::vec4(glm::vec3(c), 1.0f));
                        out.write(1, glm::vec4(glm::vec3(c), 1.0f));
                      }),

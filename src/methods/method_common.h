@@ -60,7 +60,7 @@ inline AttachmentDecl depthAttachment(std::string name, std::string purpose) {
 std::vector<AttachmentDecl> opaqueAttachments();
 
 // The most fragments a batch shader (PassRunner::transparentBatchPass) gets in one call.
-constexpr int kShaderBatch = 64;
+constexpr int kShaderBatch = FragmentBatch::kCapacity;
 
 class PassRunner {
  public:
@@ -83,30 +83,27 @@ class PassRunner {
                        bool mayDiscard = false, bool pure = false) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       return programOf([&object, &shader](const FragmentInput& in, FragmentOutput& out) {
-        shader(in, shadeSurface(object, in.attributes), out);
+        shader(in, shadeSurface(object, in.attributes, in.attributeStride), out);
       }, mayDiscard, false, false, pure);
     });
   }
-  // The same with a shader over a batch of fragments of distinct pixels:
-  // shader(const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count),
-  // count ≤ kShaderBatch, for shaders whose arithmetic gains from seeing several fragments at once
-  // (lanes). The per-fragment program calls it with one fragment, so it stays the batch's oracle.
+  // The same with a shader over a batch of fragments of distinct pixels (FragmentBatch):
+  // shader(const FragmentBatch& in, const glm::vec4* colors, FragmentOutput* out), in.count ≤
+  // kShaderBatch, for shaders whose arithmetic gains from seeing several fragments at once
+  // (lanes). The per-fragment program calls it with a batch of one, so it stays the batch's oracle.
   template <typename BatchShader>
   void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                             const BatchShader& shader, bool mayDiscard = false) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       FragmentProgram program{[&object, &shader](const FragmentInput& in, FragmentOutput& out) {
-                                const glm::vec4 color = shadeSurface(object, in.attributes);
-                                shader(&in, &color, &out, 1);
+                                const glm::vec4 color = shadeSurface(object, in.attributes, in.attributeStride);
+                                shader(FragmentBatch::of(in), &color, &out);
                               },
                               mayDiscard, false, false, {}};
-      program.batch = [&object, &shader](const FragmentInput* in, FragmentOutput* out, int count) {
+      program.batch = [&object, &shader](const FragmentBatch& in, FragmentOutput* out) {
         glm::vec4 colors[kShaderBatch];
-        for (int start = 0; start < count; start += kShaderBatch) {
-          const int n = std::min(kShaderBatch, count - start);
-          for (int i = 0; i < n; ++i) colors[i] = shadeSurface(object, in[start + i].attributes);
-          shader(in + start, colors, out + start, n);
-        }
+        for (int i = 0; i < in.count; ++i) colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride);
+        shader(in, colors, out);
       };
       return program;
     });
@@ -166,19 +163,18 @@ inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
 
 // The accumulation pass of McGuire–Bavoil eq. 6 (listing 3), which WBOIT, MBOIT and MT share:
 // accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,
-// ONE_MINUS_SRC_COLOR, against the opaque depth; weights(const FragmentInput* in,
-// const glm::vec4* colors, float* w, int count) sets each fragment's w of a batch at once
-// (count ≤ kShaderBatch).
+// ONE_MINUS_SRC_COLOR, against the opaque depth; weights(const FragmentBatch& in,
+// const glm::vec4* colors, float* w) sets each fragment's w of a batch at once.
 Framebuffer weightedAccumulationTargets(FrameTargets& targets, Image& accum, Image& reveal);
 PipelineState weightedAccumulationState(const Profile& profile);
 template <typename Weights>
 void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weights& weights) {
   Framebuffer fb = weightedAccumulationTargets(targets, accum, reveal);
   run.transparentBatchPass("accumulate", fb, weightedAccumulationState(run.context().profile),
-                           [&weights](const FragmentInput* in, const glm::vec4* colors, FragmentOutput* out, int count) {
+                           [&weights](const FragmentBatch& in, const glm::vec4* colors, FragmentOutput* out) {
                              float w[kShaderBatch];
-                             weights(in, colors, w, count);
-                             for (int i = 0; i < count; ++i) {
+                             weights(in, colors, w);
+                             for (int i = 0; i < in.count; ++i) {
                                const glm::vec4& c = colors[i];
                                out[i].write(0, glm::vec4(glm::vec3(c) * c.a * w[i], c.a * w[i]));
                                out[i].write(1, glm::vec4(c.a));

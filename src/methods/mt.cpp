@@ -50,9 +50,10 @@ class Mt final : public Method {
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
     // The fragments' depths in [0, 1]: ln(view depth / near) / ln(far / near), a batch's
     // logarithms together (detLogBatch: the same bits as detLog).
-    auto unitDepths = [&](const FragmentInput* in, int count, float* u) {
+    auto unitDepths = [&](const FragmentBatch& in, float* u) {
+      const int count = in.count;
       double x[kShaderBatch], ln[kShaderBatch];
-      for (int i = 0; i < count; ++i) x[i] = double(in[i].viewDepth) / double(cam.nearPlane);
+      for (int i = 0; i < count; ++i) x[i] = double(in.viewDepth[i]) / double(cam.nearPlane);
       detLogBatch(x, ln, count);
       for (int i = 0; i < count; ++i) u[i] = float(ln[i] / logRange);
     };
@@ -63,12 +64,13 @@ class Mt final : public Method {
     momentFb.depth = &t.depth("depth");
     // The optical depths −ln(1 − α) of a batch together (detLogBatch: the same bits as detLog).
     run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
-                             [&](const FragmentInput* in, const glm::vec4* c, FragmentOutput* out, int count) {
+                             [&](const FragmentBatch& in, const glm::vec4* c, FragmentOutput* out) {
+                               const int count = in.count;
                                double x[kShaderBatch], ln[kShaderBatch];
                                float depth[kShaderBatch];
                                for (int i = 0; i < count; ++i) x[i] = 1.0 - double(std::min(c[i].a, 1.0f - 0.5f / 256.0f));
                                detLogBatch(x, ln, count);
-                               unitDepths(in, count, depth);
+                               unitDepths(in, depth);
                                for (int i = 0; i < count; ++i) {
                                  const float a = float(-ln[i]);
                                  const float u = depth[i], u2 = u * u;
@@ -82,17 +84,19 @@ class Mt final : public Method {
     std::atomic<uint64_t> fallbacks{0};
     // A batch at a time: the bounds in lanes (powerMomentAbsorbanceBatch) and the weights'
     // exponentials together (detExpBatch), each the same bits as one fragment at a time.
-    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentInput* in, const glm::vec4*, float* w, int count) {
+    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
+      const int count = in.count;
+      if (count <= 0) return;  // never empty (FragmentBatch); said so, GCC sees b and u always written
       float b[4 * kShaderBatch], u[kShaderBatch], total[kShaderBatch], absorbance[kShaderBatch];
       bool fellBack[kShaderBatch];
       double exponent[kShaderBatch], weight[kShaderBatch];
       for (int i = 0; i < count; ++i) {
-        total[i] = opticalDepth.fetch(in[i].x, in[i].y).r;
-        glm::vec4 m = moments.fetch(in[i].x, in[i].y);
+        total[i] = opticalDepth.fetch(in.x[i], in.y).r;
+        glm::vec4 m = moments.fetch(in.x[i], in.y);
         if (total[i] != 0.0f) m /= total[i];
         for (int k = 0; k < 4; ++k) b[4 * i + k] = m[k];
       }
-      unitDepths(in, count, u);
+      unitDepths(in, u);
       powerMomentAbsorbanceBatch(4, b, u, count, bias, biasVector, 0.0f, absorbance, fellBack);
       for (int i = 0; i < count; ++i) {
         if (fellBack[i]) fallbacks.fetch_add(1, std::memory_order_relaxed);

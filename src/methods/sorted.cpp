@@ -68,7 +68,7 @@ class Sorted final : public Method {
       report.stats = context.renderer.draw(fb, st, toClipGeometry(merged, run.viewProjection()),
                                            {[&](const FragmentInput& in, FragmentOutput& out) {
                                              const SceneObject& o = context.scene.objects[objectOf[in.primitiveId]];
-                                             const glm::vec4 c = shadeSurface(o, in.attributes);
+                                             const glm::vec4 c = shadeSurface(o, in.attributes, in.attributeStride);
                                              out.write(0, c);
                                              out.write(1, c);
                                            }});

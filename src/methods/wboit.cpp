@@ -107,13 +107,14 @@ class Wboit final : public Method {
     // Steps 4, 7–12: accum += (c·α·w, α·w) (S_accum, eq. 2.6), reveal *= (1 − α).
     const Weight kind = weight_;
     const bool adaptive = adaptive_;
-    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentInput* in, const glm::vec4* c, float* w, int count) {
+    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4* c, float* w) {
+      const int count = in.count;
       float z[kShaderBatch];
-      for (int i = 0; i < count; ++i) z[i] = in[i].depth;
+      for (int i = 0; i < count; ++i) z[i] = in.depth[i];
       if (adaptive)
-        for (int i = 0; i < count; ++i) z[i] = z[i] / float(depth.depth(in[i].x, in[i].y));  // z / z_s: the opaque depth behind it
+        for (int i = 0; i < count; ++i) z[i] = z[i] / float(depth.depth(in.x[i], in.y));  // z / z_s: the opaque depth behind it
       withWeight(kind, [&](auto weightOf) {
-        for (int i = 0; i < count; ++i) w[i] = weightOf(c[i].a, z[i], in[i].viewDepth);
+        for (int i = 0; i < count; ++i) w[i] = weightOf(c[i].a, z[i], in.viewDepth[i]);
       });
     });
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.

@@ -59,13 +59,22 @@ void FragmentStage::interpolateAttributes(const double* b, float* out) const {
   for (int k = 0; k < n; ++k) out[k] = interpolateAttribute(b[0], b[1], b[2], va[k], va[n + k], va[2 * n + k]);
 }
 
+// Lanes up to the next multiple of four past `count` compute from whatever b holds there; their
+// results are never read.
 void FragmentStage::interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count,
                                                float* out) const {
   const int n = int(attributes_.size());
   const double* va = vertexAttributes_.data();
   for (int k = 0; k < n; ++k) {
-    const double a0 = va[k], a1 = va[n + k], a2 = va[2 * n + k];
-    for (int j = 0; j < count; ++j) out[j * n + k] = interpolateAttribute(b0[j], b1[j], b2[j], a0, a1, a2);
+    const lanes::d4 a0 = lanes::splat<lanes::d4>(va[k]), a1 = lanes::splat<lanes::d4>(va[n + k]),
+                    a2 = lanes::splat<lanes::d4>(va[2 * n + k]);
+    float* row = out + size_t(k) * kBatch;
+    for (int j = 0; j < count; j += 4) {
+      lanes::d4 c0, c1, c2;
+      std::memcpy(&c0, b0 + j, sizeof c0), std::memcpy(&c1, b1 + j, sizeof c1), std::memcpy(&c2, b2 + j, sizeof c2);
+      const lanes::f4 a = lanes::convert<lanes::f4>(c0 * a0 + c1 * a1 + c2 * a2);  // interpolateAttribute's
+      std::memcpy(row + j, &a, sizeof a);
+    }
   }
 }
 
@@ -122,16 +131,33 @@ void FragmentStage::span(int y, int x0, int x1) {
       for (int i = 0; i < n; ++i) alive[i] = i;
     }
     if (program_->batch) {
-      // The survivors' barycentrics side by side, so that each attribute is interpolated over all
-      // of them in one loop (interpolateAttributes' expression per lane).
+      // The survivors as arrays, their barycentrics side by side, so that each attribute is
+      // interpolated over all of them in lanes (interpolateAttribute's expression per lane).
+      // Where every fragment survived (the usual case behind an opaque depth buffer), in lanes.
       double c0[kBatch], c1[kBatch], c2[kBatch];
+      if (count == n) {
+        for (int j = 0; j < n; j += 4) {
+          lanes::d4 lz, lw;
+          std::memcpy(&lz, z + j, sizeof lz), std::memcpy(&lw, w + j, sizeof lw);
+          const lanes::f4 fz = lanes::convert<lanes::f4>(lz), fw = lanes::convert<lanes::f4>(lw);
+          const lanes::i4 x = lanes::i4{0, 1, 2, 3} + (start + j);
+          std::memcpy(batchDepth_ + j, &fz, sizeof fz), std::memcpy(batchViewDepth_ + j, &fw, sizeof fw);
+          std::memcpy(batchX_ + j, &x, sizeof x);
+        }
+        std::memcpy(batchZ_, z, sizeof(double) * size_t(n));
+        interpolateAttributesBatch(b0, b1, b2, count, batchAttributes_.data());
+        shadeAndBlendBatch(y, count);
+        continue;
+      }
       for (int j = 0; j < count; ++j) {
         const int i = alive[j];
-        fillInput(inputs_[j], start + i, y, z[i], w[i]);
-        inputs_[j].attributes = batchAttributes_.data() + size_t(j) * attributes_.size();
+        batchX_[j] = start + i;
         batchZ_[j] = z[i];
+        batchDepth_[j] = float(z[i]);
+        batchViewDepth_[j] = float(w[i]);
         c0[j] = b0[i], c1[j] = b1[i], c2[j] = b2[i];
       }
+      for (int j = count; j % 4; ++j) c0[j] = c1[j] = c2[j] = 0.0;  // the last lanes' inputs: defined
       interpolateAttributesBatch(c0, c1, c2, count, batchAttributes_.data());
       shadeAndBlendBatch(y, count);
       continue;
@@ -143,7 +169,7 @@ void FragmentStage::span(int y, int x0, int x1) {
       fillInput(in, start + i, y, z[i], w[i]);
       const double b[3] = {b0[i], b1[i], b2[i]};
       if (shade(in, z[i], b, outputs_[size_t(blended)], earlyDepthTest_ || earlyReject_)) {
-        batchX_[blended] = start + i;
+        blendX_[blended] = start + i;
         batchOutput_[blended] = blended;
         ++blended;
       }
@@ -165,8 +191,21 @@ void FragmentStage::prefetchDepthRow(int y, int x0, int x1) const {
 }
 
 void FragmentStage::shadeAndBlendBatch(int y, int count) {
+  if (count == 0) return;  // a batch shader never gets an empty batch
   for (int i = 0; i < count; ++i) outputs_[size_t(i)].reset();
-  program_->batch(inputs_, outputs_.data(), count);
+  FragmentBatch batch;
+  batch.count = count;
+  batch.y = y;
+  batch.x = batchX_;
+  batch.depth = batchDepth_;
+  batch.viewDepth = batchViewDepth_;
+  batch.attributes = batchAttributes_.data();
+  batch.attributeCount = int(attributes_.size());
+  batch.attributeStride = kBatch;
+  batch.frontFacing = triangle_ ? triangle_->frontFacing : true;
+  batch.primitiveId = triangle_ ? triangle_->primitiveId : 0;
+  batch.drawId = drawId_;
+  program_->batch(batch, outputs_.data());
   counters_.shaded += uint64_t(count);
   int alive = 0;
   if (earlyTests_) {
@@ -176,15 +215,15 @@ void FragmentStage::shadeAndBlendBatch(int y, int count) {
       const FragmentOutput& out = outputs_[size_t(i)];
       discarded += out.discarded();
       if (out.discarded() || !(out.writtenMask() & boundTargets_)) continue;
-      batchX_[alive] = inputs_[i].x;
+      blendX_[alive] = batchX_[i];
       batchOutput_[alive++] = i;
     }
     counters_.discarded += discarded;
     counters_.written += uint64_t(alive);
   } else {
     for (int i = 0; i < count; ++i)
-      if (afterShader(inputs_[i], batchZ_[i], outputs_[size_t(i)])) {
-        batchX_[alive] = inputs_[i].x;
+      if (afterShader(batchX_[i], y, batchZ_[i], outputs_[size_t(i)])) {
+        blendX_[alive] = batchX_[i];
         batchOutput_[alive++] = i;
       }
   }
@@ -199,9 +238,11 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
       const bool depthTest = earlyDepthTest_ || earlyReject_;
       int count = 0;
       for (int i = 0; i < n; ++i) {
-        fillInput(inputs_[count], start + i, y, 0.0, 1.0);
-        if (depthTest && !earlyTest(inputs_[count], 0.0)) continue;
-        batchZ_[count++] = 0.0;
+        if (depthTest && !earlyTest(start + i, y, 0.0)) continue;
+        batchX_[count] = start + i;
+        batchZ_[count] = 0.0;
+        batchDepth_[count] = 0.0f;
+        batchViewDepth_[count++] = 1.0f;
       }
       shadeAndBlendBatch(y, count);
       continue;
@@ -211,7 +252,7 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
       FragmentInput in;
       fillInput(in, start + i, y, 0.0, 1.0);
       if (shade(in, 0.0, nullptr, outputs_[size_t(alive)])) {
-        batchX_[alive] = start + i;
+        blendX_[alive] = start + i;
         batchOutput_[alive] = alive;
         ++alive;
       }
@@ -237,14 +278,14 @@ void FragmentStage::blendBatch(int y, int count) {
     if ((writtenByAll >> t) & 1u) {
       for (int i = 0; i < count; ++i) {
         sources[i] = &outputs_[size_t(batchOutput_[i])].color(t);
-        texels[i] = row + size_t(batchX_[i]) * bytes;
+        texels[i] = row + size_t(blendX_[i]) * bytes;
       }
       n = count;
     } else {
       for (int i = 0; i < count; ++i) {
         const FragmentOutput& out = outputs_[size_t(batchOutput_[i])];
         sources[n] = &out.color(t);
-        texels[n] = row + size_t(batchX_[i]) * bytes;
+        texels[n] = row + size_t(blendX_[i]) * bytes;
         n += (out.writtenMask() >> t) & 1u;
       }
     }
@@ -269,20 +310,20 @@ void FragmentStage::process(FragmentInput& in, double z, const double* perspecti
   }
 }
 
-bool FragmentStage::earlyTest(const FragmentInput& in, double z) {
+bool FragmentStage::earlyTest(int x, int y, double z) {
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
   if (!(earlyDepthTest_ || earlyReject_)) return true;  // GL §17.3.4: no test, no depth write
   const uint32_t fragmentDepth = encodeDepth(z, depth->format());
-  if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
+  if (!depthTestPasses(ds.func, fragmentDepth, depth->load(x, y), depth->format())) {
     ++counters_.depthFailed;
     return false;
   }
-  if (earlyDepthTest_ && ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
+  if (earlyDepthTest_ && ds.writeMask) depth->store(x, y, fragmentDepth);
   return true;
 }
 
-bool FragmentStage::afterShader(const FragmentInput& in, double z, const FragmentOutput& out) {
+bool FragmentStage::afterShader(int x, int y, double z, const FragmentOutput& out) {
   if (out.discarded()) {
     ++counters_.discarded;
     return false;
@@ -291,11 +332,11 @@ bool FragmentStage::afterShader(const FragmentInput& in, double z, const Fragmen
   const DepthState& ds = state_.depth;
   if (!earlyTests_ && depth != nullptr && ds.testEnabled) {
     const uint32_t fragmentDepth = encodeDepth(out.depthWritten() ? double(out.depth()) : z, depth->format());
-    if (!depthTestPasses(ds.func, fragmentDepth, depth->load(in.x, in.y), depth->format())) {
+    if (!depthTestPasses(ds.func, fragmentDepth, depth->load(x, y), depth->format())) {
       ++counters_.depthFailed;
       return false;
     }
-    if (ds.writeMask) depth->store(in.x, in.y, fragmentDepth);
+    if (ds.writeMask) depth->store(x, y, fragmentDepth);
   }
   if (!(out.writtenMask() & boundTargets_)) return false;
   ++counters_.written;
@@ -305,12 +346,12 @@ bool FragmentStage::afterShader(const FragmentInput& in, double z, const Fragmen
 // Attributes are interpolated only for fragments that reach the shader.
 bool FragmentStage::shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out,
                           bool earlyTestDone) {
-  if (!earlyTestDone && !earlyTest(in, z)) return false;
+  if (!earlyTestDone && !earlyTest(in.x, in.y, z)) return false;
   if (perspectiveBary) interpolateAttributes(perspectiveBary, attributes_.data());
   out.reset();
   program_->shader(in, out);
   ++counters_.shaded;
-  return afterShader(in, z, out);
+  return afterShader(in.x, in.y, z, out);
 }
 
 }  // namespace oitref::detail

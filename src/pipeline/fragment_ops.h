@@ -65,15 +65,16 @@ class FragmentStage {
   bool shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out, bool earlyTestDone = false);
   // The early depth test and write, where the program has early tests (the test alone, for
   // earlyReject_); false when it fails.
-  bool earlyTest(const FragmentInput& in, double z);
+  bool earlyTest(int x, int y, double z);
   // After the shader: discard, the late depth test and write (window z `z` unless the shader set
   // one), and whether the fragment wrote a bound output, which makes it reach blending.
-  bool afterShader(const FragmentInput& in, double z, const FragmentOutput& out);
-  // The batch path: inputs_[0, count) of row y with window depths batchZ_, early-tested already,
-  // shaded by one program_->batch call, then afterShader and blending.
+  bool afterShader(int x, int y, double z, const FragmentOutput& out);
+  // The batch path: the fragments [0, count) of row y in the batch arrays (batchX_, batchZ_, …),
+  // early-tested already, shaded by one program_->batch call, then afterShader and blending.
   void shadeAndBlendBatch(int y, int count);
   // a = Σ b_i a_i, rounded once to fp32 (the header comment), for one fragment's attributes, or
-  // for `count` fragments' (out[j·attributeCount + k]) one attribute at a time.
+  // for `count` fragments' as rows (attribute k of fragment j at out[k·kBatch + j]), four lanes
+  // at a time.
   static float interpolateAttribute(double b0, double b1, double b2, double a0, double a1, double a2) {
     return float(b0 * a0 + b1 * a1 + b2 * a2);
   }
@@ -96,12 +97,12 @@ class FragmentStage {
     b0 = k0 * w, b1 = k1 * w, b2 = k2 * w;
     z = 0.5 * ((b0 * clipZ[0] + b1 * clipZ[1] + b2 * clipZ[2]) / w) + 0.5;
   }
-  // Blends the batch's surviving fragments (outputs_[batchOutput_[i]] at x = batchX_[i] on row y),
+  // Blends the batch's surviving fragments (outputs_[batchOutput_[i]] at x = blendX_[i] on row y),
   // target by target.
   void blendBatch(int y, int count);
   void prefetchDepthRow(int y, int x0, int x1) const;
 
-  static constexpr int kBatch = 64;
+  static constexpr int kBatch = FragmentBatch::kCapacity;
 
   Framebuffer& fb_;
   const PipelineState& state_;
@@ -125,10 +126,13 @@ class FragmentStage {
   FragmentOutput output_;
   FragmentCounters counters_;
   std::vector<FragmentOutput> outputs_;  // kBatch, for span()
-  int batchX_[kBatch], batchOutput_[kBatch];
-  FragmentInput inputs_[kBatch];          // the batch path's fragments
+  int blendX_[kBatch], batchOutput_[kBatch];
+  // The batch path's fragments as arrays (FragmentBatch): columns, window depth in double (the
+  // depth test's) and in fp32 (gl_FragCoord.z), view depth, and the attributes' rows.
+  int batchX_[kBatch];
   double batchZ_[kBatch];
-  std::vector<float> batchAttributes_;    // kBatch × attributeCount
+  float batchDepth_[kBatch], batchViewDepth_[kBatch];
+  std::vector<float> batchAttributes_;    // attributeCount rows of kBatch
 };
 
 }  // namespace oitref::detail
