@@ -3,8 +3,35 @@
 #include <cstdint>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 namespace oitref::detail {
 namespace {
+
+// Left-packing: for each 4-bit mask of passing lanes, their indices in ascending order (the rest
+// of the row is written but not counted). One vector store per four pixels instead of a chain of
+// scalar extracts and adds.
+struct LeftPack {
+  alignas(16) int32_t lanes[16][4] = {};
+  int32_t count[16] = {};  // the lanes set (no popcnt instruction in the portable build)
+  constexpr LeftPack() {
+    for (int m = 0; m < 16; ++m)
+      for (int l = 0; l < 4; ++l)
+        if (m >> l & 1) lanes[m][count[m]++] = l;
+  }
+};
+constexpr LeftPack kLeftPack;
+
+// Bit l set where lane l of the comparison's result (−1/0) is set.
+inline int laneMask(lanes::i4 pass) {
+#if defined(__SSE2__)
+  return _mm_movemask_ps(_mm_castsi128_ps(__m128i(pass)));
+#else
+  return (pass[0] & 1) | (pass[1] & 2) | (pass[2] & 4) | (pass[3] & 8);
+#endif
+}
 
 template <DepthFormat Format, CompareFunc Func, bool Write>
 int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* passed) {
@@ -26,10 +53,13 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
         for (int l = 0; l < 4; ++l) row[i + l] = Word(result[l]);
       else std::memcpy(row + i, &result, sizeof result);
     }
-    for (int l = 0; l < 4; ++l) {
-      passed[count] = i + l;
-      count += pass[l] & 1;
-    }
+    // passed has room: count ≤ i and i + 4 ≤ n.
+    const int mask = laneMask(pass);
+    lanes::i4 index;
+    std::memcpy(&index, kLeftPack.lanes[mask], sizeof index);
+    index += i;
+    std::memcpy(passed + count, &index, sizeof index);
+    count += kLeftPack.count[mask];
   }
   for (; i < n; ++i) {
     const uint32_t fragment = encodeDepthAs<Format>(z[i]), stored = row[i];
