@@ -92,8 +92,13 @@ struct FragmentBatch {
 
 class FragmentOutput {
  public:
+  FragmentOutput() : color_{} {}
+  // Not copied: a FragmentBatchOutput's view points into the batch's arrays.
+  FragmentOutput(const FragmentOutput&) = delete;
+  FragmentOutput& operator=(const FragmentOutput&) = delete;
+
   void write(int target, const glm::vec4& color) {
-    color_[target] = color;
+    colors_[target * stride_] = color;
     written_ |= 1u << target;
   }
   void discard() { discarded_ = true; }
@@ -102,7 +107,7 @@ class FragmentOutput {
     depthWritten_ = true;
   }
 
-  const glm::vec4& color(int target) const { return color_[target]; }
+  const glm::vec4& color(int target) const { return colors_[target * stride_]; }
   unsigned writtenMask() const { return written_; }
   bool discarded() const { return discarded_; }
   bool depthWritten() const { return depthWritten_; }
@@ -114,7 +119,15 @@ class FragmentOutput {
   }
 
  private:
-  std::array<glm::vec4, kMaxColorTargets> color_{};
+  friend class FragmentBatchOutput;
+  // A view whose colours are written straight into a batch's arrays (colors[t · stride]): no copy
+  // between the shader's writes and blending, whose 16-byte loads of colours written a channel
+  // at a time would wait (no store forwarding).
+  FragmentOutput(glm::vec4* colors, int stride) : colors_(colors), stride_(stride) {}
+
+  std::array<glm::vec4, kMaxColorTargets> color_;  // a fragment's own (zero until written)
+  glm::vec4* colors_ = color_.data();
+  int stride_ = 1;
   unsigned written_ = 0;
   bool discarded_ = false;
   bool depthWritten_ = false;
@@ -123,12 +136,64 @@ class FragmentOutput {
 
 using FragmentShader = std::function<void(const FragmentInput&, FragmentOutput&)>;
 
-// The same shader over a batch: out[i] for in[i], i < in.count (1 ≤ in.count ≤
-// FragmentBatch::kCapacity), each output reset beforehand.
+// What FragmentOutput holds, for the fragments of a FragmentBatch, as arrays: target t's colour
+// of fragment i at color(t, i), so that blending reads a target's colours as one array.
+class FragmentBatchOutput {
+ public:
+  static constexpr int kCapacity = FragmentBatch::kCapacity;
+  void write(int i, int target, const glm::vec4& color) {
+    color_[target][i] = color;
+    state_[i] = uint16_t(state_[i] | 1u << target);
+  }
+  void discard(int i) { state_[i] = uint16_t(state_[i] | kDiscarded); }
+  void setDepth(int i, float windowZ) {
+    depth_[i] = windowZ;
+    state_[i] = uint16_t(state_[i] | kDepthWritten);
+  }
+  // Fragment i's outputs as a FragmentOutput that writes its colours here; finish(i, view) takes
+  // the rest of what the shader left in it.
+  FragmentOutput view(int i) { return FragmentOutput(&color_[0][i], kCapacity); }
+  void finish(int i, const FragmentOutput& view) {
+    state_[i] = uint16_t(view.writtenMask() | (view.discarded() ? kDiscarded : 0u) |
+                         (view.depthWritten() ? kDepthWritten : 0u));
+    if (view.depthWritten()) depth_[i] = view.depth();
+  }
+  // Fragment i's outputs as a per-fragment shader left them in `out`, and back.
+  void store(int i, const FragmentOutput& out) {
+    finish(i, out);
+    for (unsigned t = out.writtenMask(); t; t &= t - 1) color_[__builtin_ctz(t)][i] = out.color(__builtin_ctz(t));
+  }
+  void load(int i, FragmentOutput& out) const {
+    for (unsigned t = writtenMask(i); t; t &= t - 1) out.write(__builtin_ctz(t), color_[__builtin_ctz(t)][i]);
+    if (discarded(i)) out.discard();
+    if (depthWritten(i)) out.setDepth(depth_[i]);
+  }
+
+  const glm::vec4& color(int target, int i) const { return color_[target][i]; }
+  const glm::vec4* colors(int target) const { return color_[target]; }
+  unsigned writtenMask(int i) const { return state_[i] & kWrittenMask; }
+  bool discarded(int i) const { return state_[i] & kDiscarded; }
+  bool depthWritten(int i) const { return state_[i] & kDepthWritten; }
+  float depth(int i) const { return depth_[i]; }
+  // Nothing written, discarded or depth set for fragments [0, count).
+  void reset(int count) {
+    for (int i = 0; i < count; ++i) state_[i] = 0;
+  }
+
+ private:
+  static_assert(kMaxColorTargets <= 8, "state_ holds the written targets in its low 8 bits");
+  static constexpr unsigned kWrittenMask = 0xffu, kDiscarded = 1u << 8, kDepthWritten = 1u << 9;
+  glm::vec4 color_[kMaxColorTargets][kCapacity];
+  uint16_t state_[kCapacity];  // per fragment: the written targets, discarded, depth written
+  float depth_[kCapacity];
+};
+
+// The same shader over a batch: out's fragment i for in[i], i < in.count (1 ≤ in.count ≤
+// FragmentBatch::kCapacity), out reset for them beforehand.
 // Optional, for speed (one call per batch, the per-fragment code inlined into the loop); it must
 // compute exactly what `shader` computes for each fragment, which stays the oracle
 // (RendererOptions::perFragment). programOf() below makes both from one callable.
-using FragmentBatchShader = std::function<void(const FragmentBatch& in, FragmentOutput* out)>;
+using FragmentBatchShader = std::function<void(const FragmentBatch& in, FragmentBatchOutput& out)>;
 
 // A shader plus what it declares, which decides early or late depth testing (GL 4.6 §14.9.4,
 // §15.2.4): a shader that neither discards nor writes depth is tested before shading; one that
@@ -158,8 +223,12 @@ template <typename Shader>
 FragmentProgram programOf(Shader shader, bool mayDiscard = false, bool writesDepth = false,
                           bool earlyFragmentTests = false, bool pure = false) {
   FragmentProgram program{shader, mayDiscard, writesDepth, earlyFragmentTests, {}, pure};
-  program.batch = [shader](const FragmentBatch& in, FragmentOutput* out) {
-    for (int i = 0; i < in.count; ++i) shader(in[i], out[i]);
+  program.batch = [shader](const FragmentBatch& in, FragmentBatchOutput& out) {
+    for (int i = 0; i < in.count; ++i) {
+      FragmentOutput o = out.view(i);
+      shader(in[i], o);
+      out.finish(i, o);
+    }
   };
   return program;
 }

@@ -103,7 +103,7 @@ class Mboit final : public Method {
       momentFb.color[1] = momentImages[0];
       momentFb.color[2] = momentImages[1];
       run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
-                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentOutput* out) {
+                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
                                  const int count = in.count;
                                  float absorbance[kShaderBatch];
                                  absorbancesOf(colors, count, absorbance);
@@ -112,9 +112,9 @@ class Mboit final : public Method {
                                    if (a < 1e-7f) continue;  // nearly clear: adds nothing measurable
                                    float m[8] = {};
                                    momentsOf(set, warp(in[i]), zone, m);
-                                   out[i].write(0, glm::vec4(a));
-                                   out[i].write(1, glm::vec4(m[0], m[1], m[2], m[3]) * a);
-                                   if (reals > 4) out[i].write(2, glm::vec4(m[4], m[5], m[6], m[7]) * a);
+                                   out.write(i, 0, glm::vec4(a));
+                                   out.write(i, 1, glm::vec4(m[0], m[1], m[2], m[3]) * a);
+                                   if (reals > 4) out.write(i, 2, glm::vec4(m[4], m[5], m[6], m[7]) * a);
                                  }
                                });
     } else {

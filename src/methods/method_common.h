@@ -88,7 +88,7 @@ class PassRunner {
     });
   }
   // The same with a shader over a batch of fragments of distinct pixels (FragmentBatch):
-  // shader(const FragmentBatch& in, const glm::vec4* colors, FragmentOutput* out), in.count ≤
+  // shader(const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out), in.count ≤
   // kShaderBatch, for shaders whose arithmetic gains from seeing several fragments at once
   // (lanes). The per-fragment program calls it with a batch of one, so it stays the batch's oracle.
   template <typename BatchShader>
@@ -97,10 +97,13 @@ class PassRunner {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       FragmentProgram program{[&object, &shader](const FragmentInput& in, FragmentOutput& out) {
                                 const glm::vec4 color = shadeSurface(object, in.attributes, in.attributeStride);
-                                shader(FragmentBatch::of(in), &color, &out);
+                                FragmentBatchOutput batchOut;
+                                batchOut.reset(1);
+                                shader(FragmentBatch::of(in), &color, batchOut);
+                                batchOut.load(0, out);
                               },
                               mayDiscard, false, false, {}};
-      program.batch = [&object, &shader](const FragmentBatch& in, FragmentOutput* out) {
+      program.batch = [&object, &shader](const FragmentBatch& in, FragmentBatchOutput& out) {
         glm::vec4 colors[kShaderBatch];
         for (int i = 0; i < in.count; ++i) colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride);
         shader(in, colors, out);
@@ -171,13 +174,13 @@ template <typename Weights>
 void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weights& weights) {
   Framebuffer fb = weightedAccumulationTargets(targets, accum, reveal);
   run.transparentBatchPass("accumulate", fb, weightedAccumulationState(run.context().profile),
-                           [&weights](const FragmentBatch& in, const glm::vec4* colors, FragmentOutput* out) {
+                           [&weights](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
                              float w[kShaderBatch];
                              weights(in, colors, w);
                              for (int i = 0; i < in.count; ++i) {
                                const glm::vec4& c = colors[i];
-                               out[i].write(0, glm::vec4(glm::vec3(c) * c.a * w[i], c.a * w[i]));
-                               out[i].write(1, glm::vec4(c.a));
+                               out.write(i, 0, glm::vec4(glm::vec3(c) * c.a * w[i], c.a * w[i]));
+                               out.write(i, 1, glm::vec4(c.a));
                              }
                            });
 }

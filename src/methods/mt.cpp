@@ -64,7 +64,7 @@ class Mt final : public Method {
     momentFb.depth = &t.depth("depth");
     // The optical depths −ln(1 − α) of a batch together (detLogBatch: the same bits as detLog).
     run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
-                             [&](const FragmentBatch& in, const glm::vec4* c, FragmentOutput* out) {
+                             [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput& out) {
                                const int count = in.count;
                                double x[kShaderBatch], ln[kShaderBatch];
                                float depth[kShaderBatch];
@@ -74,8 +74,8 @@ class Mt final : public Method {
                                for (int i = 0; i < count; ++i) {
                                  const float a = float(-ln[i]);
                                  const float u = depth[i], u2 = u * u;
-                                 out[i].write(0, glm::vec4(a));
-                                 out[i].write(1, glm::vec4(u, u2, u2 * u, u2 * u2) * a);
+                                 out.write(i, 0, glm::vec4(a));
+                                 out.write(i, 1, glm::vec4(u, u2, u2 * u, u2 * u2) * a);
                                }
                              });
 

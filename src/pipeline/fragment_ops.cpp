@@ -18,7 +18,6 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
     blenders_.emplace_back(fb.color[size_t(t)] ? fb.color[size_t(t)]->format() : Format{}, state.blend[size_t(t)],
                            state.blendConstant, state.profile, true, smallFloatBound);
   }
-  outputs_.resize(kBatch);
   // x_n = (x + ½ − vx)·(2/vw) − 1
   const double vw = viewport.x1 - viewport.x0, vh = viewport.y1 - viewport.y0;
   ndcScaleX_ = 2.0 / vw, ndcOffsetX_ = (0.5 - viewport.x0) * (2.0 / vw) - 1.0;
@@ -168,13 +167,14 @@ void FragmentStage::span(int y, int x0, int x1) {
       FragmentInput in;
       fillInput(in, start + i, y, z[i], w[i]);
       const double b[3] = {b0[i], b1[i], b2[i]};
-      if (shade(in, z[i], b, outputs_[size_t(blended)], earlyDepthTest_ || earlyReject_)) {
+      if (shade(in, z[i], b, output_, earlyDepthTest_ || earlyReject_)) {
+        outputs_.store(blended, output_);
         blendX_[blended] = start + i;
-        batchOutput_[blended] = blended;
+        blendIndex_[blended] = blended;
         ++blended;
       }
     }
-    blendBatch(y, blended);
+    blendBatch(y, blended, blendX_, blendIndex_);
   }
 }
 
@@ -192,7 +192,7 @@ void FragmentStage::prefetchDepthRow(int y, int x0, int x1) const {
 
 void FragmentStage::shadeAndBlendBatch(int y, int count) {
   if (count == 0) return;  // a batch shader never gets an empty batch
-  for (int i = 0; i < count; ++i) outputs_[size_t(i)].reset();
+  outputs_.reset(count);
   FragmentBatch batch;
   batch.count = count;
   batch.y = y;
@@ -205,29 +205,41 @@ void FragmentStage::shadeAndBlendBatch(int y, int count) {
   batch.frontFacing = triangle_ ? triangle_->frontFacing : true;
   batch.primitiveId = triangle_ ? triangle_->primitiveId : 0;
   batch.drawId = drawId_;
-  program_->batch(batch, outputs_.data());
+  program_->batch(batch, outputs_);
   counters_.shaded += uint64_t(count);
   int alive = 0;
   if (earlyTests_) {
     // afterShader with the depth test done: discard, and whether a bound output was written.
+    // Usually no fragment discarded and all wrote a bound target: then all of them blend.
+    unsigned writtenByAll = ~0u;
+    bool anyDiscarded = false;
+    for (int i = 0; i < count; ++i) {
+      writtenByAll &= outputs_.writtenMask(i);
+      anyDiscarded |= outputs_.discarded(i);
+    }
+    if (!anyDiscarded && (writtenByAll & boundTargets_)) {
+      counters_.written += uint64_t(count);
+      blendBatch(y, count, batchX_, nullptr);
+      return;
+    }
     uint64_t discarded = 0;
     for (int i = 0; i < count; ++i) {
-      const FragmentOutput& out = outputs_[size_t(i)];
-      discarded += out.discarded();
-      if (out.discarded() || !(out.writtenMask() & boundTargets_)) continue;
+      discarded += outputs_.discarded(i);
+      if (outputs_.discarded(i) || !(outputs_.writtenMask(i) & boundTargets_)) continue;
       blendX_[alive] = batchX_[i];
-      batchOutput_[alive++] = i;
+      blendIndex_[alive++] = i;
     }
     counters_.discarded += discarded;
     counters_.written += uint64_t(alive);
   } else {
     for (int i = 0; i < count; ++i)
-      if (afterShader(batchX_[i], y, batchZ_[i], outputs_[size_t(i)])) {
+      if (afterShader(batchX_[i], y, batchZ_[i], outputs_.discarded(i), outputs_.depthWritten(i), outputs_.depth(i),
+                      outputs_.writtenMask(i))) {
         blendX_[alive] = batchX_[i];
-        batchOutput_[alive++] = i;
+        blendIndex_[alive++] = i;
       }
   }
-  blendBatch(y, alive);
+  blendBatch(y, alive, blendX_, blendIndex_);
 }
 
 void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
@@ -251,42 +263,44 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
     for (int i = 0; i < n; ++i) {
       FragmentInput in;
       fillInput(in, start + i, y, 0.0, 1.0);
-      if (shade(in, 0.0, nullptr, outputs_[size_t(alive)])) {
+      if (shade(in, 0.0, nullptr, output_)) {
+        outputs_.store(alive, output_);
         blendX_[alive] = start + i;
-        batchOutput_[alive] = alive;
+        blendIndex_[alive] = alive;
         ++alive;
       }
     }
-    blendBatch(y, alive);
+    blendBatch(y, alive, blendX_, blendIndex_);
   }
 }
 
-void FragmentStage::blendBatch(int y, int count) {
+void FragmentStage::blendBatch(int y, int count, const int* xs, const int* index) {
   const glm::vec4* sources[kBatch];
   uint8_t* texels[kBatch];
   // The targets every fragment of the batch wrote (the usual case) take all of them without
   // compaction: compacting, each fragment's slot waited on the previous one's written bit.
   unsigned writtenByAll = ~0u;
-  for (int i = 0; i < count; ++i) writtenByAll &= outputs_[size_t(batchOutput_[i])].writtenMask();
+  for (int i = 0; i < count; ++i) writtenByAll &= outputs_.writtenMask(index ? index[i] : i);
   for (unsigned targets = boundTargets_; targets;) {
     const int t = __builtin_ctz(targets);
     targets &= targets - 1;
     Image& image = *fb_.color[size_t(t)];
     uint8_t* row = image.texel(0, y);
     const size_t bytes = image.bytesPerTexel();
+    const glm::vec4* colors = outputs_.colors(t);
     int n = 0;
     if ((writtenByAll >> t) & 1u) {
       for (int i = 0; i < count; ++i) {
-        sources[i] = &outputs_[size_t(batchOutput_[i])].color(t);
-        texels[i] = row + size_t(blendX_[i]) * bytes;
+        sources[i] = colors + (index ? index[i] : i);
+        texels[i] = row + size_t(xs[i]) * bytes;
       }
       n = count;
     } else {
       for (int i = 0; i < count; ++i) {
-        const FragmentOutput& out = outputs_[size_t(batchOutput_[i])];
-        sources[n] = &out.color(t);
-        texels[n] = row + size_t(blendX_[i]) * bytes;
-        n += (out.writtenMask() >> t) & 1u;
+        const int k = index ? index[i] : i;
+        sources[n] = colors + k;
+        texels[n] = row + size_t(xs[i]) * bytes;
+        n += (outputs_.writtenMask(k) >> t) & 1u;
       }
     }
     if (n) blenders_[size_t(t)].blendBatch(sources, texels, n);
@@ -323,22 +337,23 @@ bool FragmentStage::earlyTest(int x, int y, double z) {
   return true;
 }
 
-bool FragmentStage::afterShader(int x, int y, double z, const FragmentOutput& out) {
-  if (out.discarded()) {
+bool FragmentStage::afterShader(int x, int y, double z, bool discarded, bool depthWritten, float shaderDepth,
+                                unsigned written) {
+  if (discarded) {
     ++counters_.discarded;
     return false;
   }
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
   if (!earlyTests_ && depth != nullptr && ds.testEnabled) {
-    const uint32_t fragmentDepth = encodeDepth(out.depthWritten() ? double(out.depth()) : z, depth->format());
+    const uint32_t fragmentDepth = encodeDepth(depthWritten ? double(shaderDepth) : z, depth->format());
     if (!depthTestPasses(ds.func, fragmentDepth, depth->load(x, y), depth->format())) {
       ++counters_.depthFailed;
       return false;
     }
     if (ds.writeMask) depth->store(x, y, fragmentDepth);
   }
-  if (!(out.writtenMask() & boundTargets_)) return false;
+  if (!(written & boundTargets_)) return false;
   ++counters_.written;
   return true;
 }

@@ -68,7 +68,10 @@ class FragmentStage {
   bool earlyTest(int x, int y, double z);
   // After the shader: discard, the late depth test and write (window z `z` unless the shader set
   // one), and whether the fragment wrote a bound output, which makes it reach blending.
-  bool afterShader(int x, int y, double z, const FragmentOutput& out);
+  bool afterShader(int x, int y, double z, bool discarded, bool depthWritten, float shaderDepth, unsigned written);
+  bool afterShader(int x, int y, double z, const FragmentOutput& out) {
+    return afterShader(x, y, z, out.discarded(), out.depthWritten(), out.depth(), out.writtenMask());
+  }
   // The batch path: the fragments [0, count) of row y in the batch arrays (batchX_, batchZ_, …),
   // early-tested already, shaded by one program_->batch call, then afterShader and blending.
   void shadeAndBlendBatch(int y, int count);
@@ -97,9 +100,9 @@ class FragmentStage {
     b0 = k0 * w, b1 = k1 * w, b2 = k2 * w;
     z = 0.5 * ((b0 * clipZ[0] + b1 * clipZ[1] + b2 * clipZ[2]) / w) + 0.5;
   }
-  // Blends the batch's surviving fragments (outputs_[batchOutput_[i]] at x = blendX_[i] on row y),
-  // target by target.
-  void blendBatch(int y, int count);
+  // Blends `count` fragments of the batch target by target: outputs_'s fragment index[i] (i when
+  // index is null: all of them) at x = xs[i] on row y.
+  void blendBatch(int y, int count, const int* xs, const int* index);
   void prefetchDepthRow(int y, int x0, int x1) const;
 
   static constexpr int kBatch = FragmentBatch::kCapacity;
@@ -125,8 +128,8 @@ class FragmentStage {
   std::vector<float> attributes_;         // interpolated, for the shader
   FragmentOutput output_;
   FragmentCounters counters_;
-  std::vector<FragmentOutput> outputs_;  // kBatch, for span()
-  int blendX_[kBatch], batchOutput_[kBatch];
+  FragmentBatchOutput outputs_;  // a batch's, for span() and fullscreenSpan()
+  int blendX_[kBatch], blendIndex_[kBatch];
   // The batch path's fragments as arrays (FragmentBatch): columns, window depth in double (the
   // depth test's) and in fp32 (gl_FragCoord.z), view depth, and the attributes' rows.
   int batchX_[kBatch];
