@@ -149,13 +149,17 @@ TEST_CASE("depth: the encoding over four lanes is the scalar encoding", "[depth]
   for (int trial = 0; trial < 20000; ++trial) {
     lanes::d4 z;
     for (int l = 0; l < 4; ++l) z[l] = trial % 5 == 0 ? (double(rng() % 100000) + 0.5) / 16777215.0 : unit(rng);
+    // The ends and what lies beyond them, and ½, which is a tie in both fixed-point formats
+    // (32767.5, 8388607.5: even codes 32768, 8388608).
+    if (trial < 3) z = trial == 0 ? lanes::d4{0.5, 0.0, 1.0, -0.0} : trial == 1 ? lanes::d4{NAN, INFINITY, -INFINITY, 0x1p-1074}
+                                                                           : lanes::d4{0x1p-30, 1.0 - 0x1p-53, 1.0 + 0x1p-52, -0x1p-1074};
     const lanes::u4 d16 = encodeDepthAs<DepthFormat::D16>(z), d24 = encodeDepthAs<DepthFormat::D24>(z),
                     d32 = encodeDepthAs<DepthFormat::D32F>(z);
     for (int l = 0; l < 4; ++l) {
       REQUIRE(d16[l] == encodeDepth(z[l], DepthFormat::D16));
       REQUIRE(d24[l] == encodeDepth(z[l], DepthFormat::D24));
       REQUIRE(d32[l] == encodeDepth(z[l], DepthFormat::D32F));
-      const double clamped = std::clamp(z[l], 0.0, 1.0);
+      const double clamped = std::isnan(z[l]) ? 0.0 : std::clamp(z[l], 0.0, 1.0);
       REQUIRE(d24[l] == uint32_t(std::nearbyint(clamped * 16777215.0)));
     }
   }

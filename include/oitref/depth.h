@@ -90,7 +90,16 @@ inline typename lanes::With<D>::Uint encodeDepthAs(D windowZ) {
     return std::bit_cast<typename L::Uint>(lanes::convert<typename L::Float>(z));
   } else {  // exact product below 2^24, ties to even
     const D maxCode = lanes::splat<D>(Format == DepthFormat::D16 ? 0xffffu : 0xffffffu);
-    return lanes::convert<typename L::Uint>(roundHalfEven<typename L::Int>(z * maxCode));
+    if constexpr (lanes::isVector<D>) {
+      // roundHalfEven in lanes without conversions: p + 2^52 (0 ≤ p < 2^51) rounds p to an
+      // integer, ties to even, in the default rounding mode (fp_environment.h), and holds that
+      // integer in its low mantissa bits.
+      typedef uint32_t u8 __attribute__((vector_size(32)));
+      const u8 bits = (u8)(z * maxCode + lanes::splat<D>(0x1p52));
+      return __builtin_shufflevector(bits, bits, 0, 2, 4, 6);
+    } else {
+      return lanes::convert<typename L::Uint>(roundHalfEven<typename L::Int>(z * maxCode));
+    }
   }
 }
 inline uint32_t encodeDepth(double windowZ, DepthFormat format) {
