@@ -12,6 +12,7 @@
 #endif
 
 #include "blend/blend_math.h"
+#include "blend/float_texels.h"
 #include "blend/method_blend_states.h"
 
 namespace oitref::detail {
@@ -21,7 +22,7 @@ namespace {
 // compiled folds away (as llvmpipe's JIT folds it).
 #define LP_INLINE [[gnu::always_inline]] inline
 
-// Lanes: four (one pixel's channels, as `run` is called per fragment) or eight (LlvmpipeLanes8:
+// Lanes: four (one pixel's channels, as `run` is called per fragment) or eight (Lanes8:
 // the channels of two to eight pixels side by side, the batch path). Every operation below is
 // per lane, and what depends on a pixel (its source and destination alpha) arrives as lanes, so
 // the bits of a lane do not depend on how many lanes travel together. (v8f, IntLanesOf, select,
@@ -302,8 +303,12 @@ LP_INLINE v4f runPixel(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, 
                        plan.shape.hasAlpha};
   return run(plan, in);
 }
-// Eight lanes of LlvmpipeLanes8.
-LP_INLINE v8f runLanes(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& l) {
+// Eight lanes: the channels of 8 / channels pixels side by side, with each lane's pixel's
+// source, destination and constant alpha beside them.
+struct Lanes8 {
+  v8f source, destination, constant, sourceAlpha, destinationAlpha, constantAlpha;
+};
+LP_INLINE v8f runLanes(const LlvmpipeFloatPlan& plan, const Lanes8& l) {
   const Inputs<v8f> in{Vec<v8f>::of(l.source), Vec<v8f>::of(l.destination), Vec<v8f>::of(l.constant),
                        l.sourceAlpha, l.destinationAlpha, l.constantAlpha, v8i{0, 0, 0, -1, 0, 0, 0, -1},
                        plan.shape.hasAlpha};
@@ -317,8 +322,53 @@ v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destina
 // the compiler splits them into scalar code slower than four lanes twice. Chosen at run time
 // (llvmpipeFloatBlend8For); the same IEEE operations per lane as the four-lane path.
 #define LP_AVX2 [[gnu::target("avx2")]]
-LP_AVX2 void general8(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& lanes, v8f& result) {
-  result = runLanes(plan, lanes);
+
+// LlvmpipeFloatTexelsFn's loop, inlined into each compiled function.
+template <int Channels, bool Half>
+LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
+                          uint8_t* const* texels, int n, Rounding fp16) {
+  constexpr int P = 8 / Channels;
+  Lanes8 lanes;
+  const v4f c = load4(constant);
+  v4f cs[P];
+  for (v4f& x : cs) x = c;
+  gatherLanes<Channels>(cs, lanes.constant, lanes.constantAlpha);
+  int i = 0;
+  for (; i + P <= n; i += P) {
+    v4f s[P], d[P];
+    for (int p = 0; p < P; ++p) {
+      s[p] = load4(*sources[i + p]);
+      d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
+    }
+    gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
+    gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
+    const v8f r = runLanes(plan, lanes);
+    // The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
+    // encodeHalfInline), then each pixel's channels stored whole: read lane by lane, the result
+    // waited on its own store (store forwarding) and the rounding was tested per channel.
+    if constexpr (Half) {
+      alignas(16) uint16_t h[8];
+#if defined(OITREF_HAVE_F16C)
+      const __m128i packed = fp16 == Rounding::TowardZero
+                                 ? _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
+                                 : _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+      _mm_store_si128(reinterpret_cast<__m128i*>(h), packed);
+#else
+      for (int l = 0; l < 8; ++l) h[l] = encodeHalfInline(r[l], fp16);
+#endif
+      for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], h + p * Channels, 2 * Channels);
+    } else {
+      alignas(32) float f[8];
+      std::memcpy(f, &r, sizeof f);
+      for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], f + p * Channels, 4 * Channels);
+    }
+  }
+  return i;
+}
+template <int Channels, bool Half>
+LP_AVX2 int generalTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
+                          uint8_t* const* texels, int n, Rounding fp16) {
+  return blendTexels<Channels, Half>(plan, constant, sources, texels, n, fp16);
 }
 
 // `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
@@ -334,21 +384,22 @@ template <LlvmpipeFloatShape Shape>
 v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
   return runPixel(withShape<Shape>(plan), constant, source, destination);
 }
-template <LlvmpipeFloatShape Shape>
-LP_AVX2 void compiled8(const LlvmpipeFloatPlan& plan, const LlvmpipeLanes8& lanes, v8f& result) {
-  result = runLanes(withShape<Shape>(plan), lanes);
+template <LlvmpipeFloatShape Shape, bool Half>
+LP_AVX2 int compiledTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
+                           uint8_t* const* texels, int n, Rounding fp16) {
+  return blendTexels<Shape.channels, Half>(withShape<Shape>(plan), constant, sources, texels, n, fp16);
 }
 
 // One compiled function per method blend state and float layout: r, rg (no alpha) and rgba.
 struct CompiledEntry {
   LlvmpipeFloatShape shape;
   LlvmpipeFloatBlendFn fn;
-  LlvmpipeFloatBlend8Fn fn8;
+  LlvmpipeFloatTexelsFn texels[2];  // fp32, fp16
 };
 template <size_t I, int Channels>
 constexpr CompiledEntry entry() {
   constexpr LlvmpipeFloatShape shape = llvmpipeFloatShape(Channels, Channels == 4, states::kMethodBlendStates[I]);
-  return {shape, &compiled<shape>, &compiled8<shape>};
+  return {shape, &compiled<shape>, {&compiledTexels<shape, false>, &compiledTexels<shape, true>}};
 }
 template <size_t... I>
 constexpr auto compiledTable(std::index_sequence<I...>) {
@@ -365,15 +416,18 @@ LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool
   return general;
 }
 
-LlvmpipeFloatBlend8Fn llvmpipeFloatBlend8For(const LlvmpipeFloatShape& shape, bool specialised) {
+LlvmpipeFloatTexelsFn llvmpipeFloatTexelsFor(const LlvmpipeFloatShape& shape, bool half, bool specialised) {
 #if defined(__x86_64__)
   static const bool avx2 = __builtin_cpu_supports("avx2");
   if (!avx2) return nullptr;
 #endif
   if (specialised)
     for (const CompiledEntry& e : kCompiled)
-      if (e.shape == shape) return e.fn8;
-  return general8;
+      if (e.shape == shape) return e.texels[half];
+  constexpr LlvmpipeFloatTexelsFn general[3][2] = {{generalTexels<1, false>, generalTexels<1, true>},
+                                                   {generalTexels<2, false>, generalTexels<2, true>},
+                                                   {generalTexels<4, false>, generalTexels<4, true>}};
+  return general[shape.channels == 4 ? 2 : shape.channels - 1][half];
 }
 
 glm::vec4 blendLlvmpipeFloat(const Format& format, const BlendState& state, const glm::vec4& constant, bool fma,

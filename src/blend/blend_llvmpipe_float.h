@@ -54,22 +54,22 @@ struct LlvmpipeFloatPlan {
 // The four lanes travel in vector registers (blend_math.h's v4f).
 using LlvmpipeFloatBlendFn = v4f (*)(const LlvmpipeFloatPlan&, v4f constant, v4f source, v4f destination);
 
-// Eight lanes blended together: the channels of 8 / channels pixels side by side (rgba: two
-// pixels, rg: four, r: eight), with each lane's pixel's source, destination and constant alpha
-// beside them. Lane for lane the bits of LlvmpipeFloatBlendFn on each pixel.
-struct LlvmpipeLanes8 {
-  v8f source, destination, constant, sourceAlpha, destinationAlpha, constantAlpha;
-};
-// The lanes travel by reference, never as values: the function is compiled for AVX2, and a
-// 32-byte vector passed by value between code built with and without AVX would not agree on
-// where it lives (the portable build).
-using LlvmpipeFloatBlend8Fn = void (*)(const LlvmpipeFloatPlan&, const LlvmpipeLanes8&, v8f& result);
+// Texels of an fp16 (`half`) or fp32 target with every channel written, blended in eight lanes:
+// the channels of 8 / channels pixels side by side (rgba: two pixels, rg: four, r: eight), each
+// lane's pixel's alphas beside them, lane for lane the bits of LlvmpipeFloatBlendFn on each pixel,
+// and the results converted as encodeTexel does (fp16 rounded as `fp16`). Blends *sources[i]
+// into texels[i] for the first whole groups of pixels of [0, n) and returns how many pixels that
+// was; the caller blends the rest one at a time. Compiled for AVX2, with the loop inside, so that
+// nothing crosses a call per group; `constant` travels by reference (between code built with
+// and without AVX, a 32-byte vector passed by value would not be where the other side looks).
+using LlvmpipeFloatTexelsFn = int (*)(const LlvmpipeFloatPlan&, const glm::vec4& constant,
+                                      const glm::vec4* const* sources, uint8_t* const* texels, int n, Rounding fp16);
 
 // The general function, and one compiled for the plan's shape when it is that of a method blend
 // state (method_blend_states.h), with the same bits; `specialised` false always gives the general one.
 LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool specialised = true);
-// The eight-lane function: nullptr where the CPU lacks AVX2 (then blend pixel by pixel).
-LlvmpipeFloatBlend8Fn llvmpipeFloatBlend8For(const LlvmpipeFloatShape& shape, bool specialised = true);
+// The eight-lane texel function: nullptr where the CPU lacks AVX2 (then blend pixel by pixel).
+LlvmpipeFloatTexelsFn llvmpipeFloatTexelsFor(const LlvmpipeFloatShape& shape, bool half, bool specialised = true);
 
 // The blended value of the texel's channels (fp32, before conversion into the format).
 glm::vec4 blendLlvmpipeFloat(const Format& format, const BlendState& state, const glm::vec4& constant, bool fma,

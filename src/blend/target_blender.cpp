@@ -7,6 +7,7 @@
 #include "blend/blend_math.h"
 #include "blend/blend_nvidia.h"
 #include "blend/method_blend_states.h"
+#include "blend/float_texels.h"
 #include "format/fp16_inline.h"
 #include "format/unorm8_decode.h"
 
@@ -21,26 +22,6 @@ int methodStateIndex(const BlendState& state) {
 }
 
 
-// A float texel's channels as four fp32 lanes (absent ones 0, alpha 1), built in registers: put
-// together in memory from narrower stores, a 16-byte load of them would wait for the stores to
-// retire (no store forwarding), which costs more than the blend.
-template <int Channels>
-inline v4f loadFloatTexel(const uint8_t* texel) {
-  float c[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-  for (int i = 0; i < Channels; ++i) std::memcpy(&c[i], texel + 4 * i, 4);
-  return v4f{c[0], c[1], c[2], c[3]};
-}
-template <int Channels>
-inline v4f loadHalfTexel(const uint8_t* texel) {
-  uint16_t h[4] = {0, 0, 0, 0x3c00};
-  for (int i = 0; i < Channels; ++i) std::memcpy(&h[i], texel + 2 * i, 2);
-#if defined(OITREF_HAVE_F16C)
-  const uint64_t bits = uint64_t(h[0]) | uint64_t(h[1]) << 16 | uint64_t(h[2]) << 32 | uint64_t(h[3]) << 48;
-  return (v4f)_mm_cvtph_ps(_mm_cvtsi64_si128(int64_t(bits)));
-#else
-  return v4f{decodeHalfInline(h[0]), decodeHalfInline(h[1]), decodeHalfInline(h[2]), decodeHalfInline(h[3])};
-#endif
-}
 // The fast kernels' texel layouts: how a destination is read into four fp32 lanes and the
 // result written back, as decodeTexel and encodeTexel do for these formats.
 struct Unorm8Texels {
@@ -157,7 +138,7 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
     use<llvmpipeFloatKernel>();
     const int c = format.channels;
     if (allowFastPath && mask_ == all && (c == 1 || c == 2 || c == 4)) {
-      llvmpipeBlend8_ = llvmpipeFloatBlend8For(llvmpipePlan_.shape, allowFastPath);
+      llvmpipeTexels_ = llvmpipeFloatTexelsFor(llvmpipePlan_.shape, format.encoding() == ChannelEncoding::Half, allowFastPath);
       if (format.encoding() == ChannelEncoding::Half)
         c == 4 ? useLlvmpipeTexel<4, true>() : c == 2 ? useLlvmpipeTexel<2, true>() : useLlvmpipeTexel<1, true>();
       else if (format.encoding() == ChannelEncoding::Float32)
@@ -222,78 +203,13 @@ void TargetBlender::llvmpipeFloatTexelKernel(const TargetBlender& b, const glm::
   }
 }
 
-namespace {
-
-// The lanes of 8 / Channels pixels side by side (the llvmpipe model's eight-lane batch): each
-// pixel's first Channels lanes of `px`, and beside every one of them that pixel's lane 3 (its
-// alpha: a source's alpha, or the 1 that loadFloatTexel puts there for a target without alpha).
-// Built with shuffles in registers, not lane by lane in memory (store forwarding).
-template <int Channels>
-inline void gatherLanes(const v4f* px, v8f& values, v8f& alphas) {
-  if constexpr (Channels == 4) {
-    values = __builtin_shufflevector(px[0], px[1], 0, 1, 2, 3, 4, 5, 6, 7);
-    alphas = __builtin_shufflevector(px[0], px[1], 3, 3, 3, 3, 7, 7, 7, 7);
-  } else if constexpr (Channels == 2) {
-    const v4f lo = __builtin_shufflevector(px[0], px[1], 0, 1, 4, 5), hi = __builtin_shufflevector(px[2], px[3], 0, 1, 4, 5);
-    const v4f alo = __builtin_shufflevector(px[0], px[1], 3, 3, 7, 7), ahi = __builtin_shufflevector(px[2], px[3], 3, 3, 7, 7);
-    values = __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7);
-    alphas = __builtin_shufflevector(alo, ahi, 0, 1, 2, 3, 4, 5, 6, 7);
-  } else {
-    v4f ra[4];  // pixel pairs: (r_2k, r_2k+1, a_2k, a_2k+1)
-    for (int k = 0; k < 4; ++k) ra[k] = __builtin_shufflevector(px[2 * k], px[2 * k + 1], 0, 4, 3, 7);
-    const v4f rlo = __builtin_shufflevector(ra[0], ra[1], 0, 1, 4, 5), rhi = __builtin_shufflevector(ra[2], ra[3], 0, 1, 4, 5);
-    const v4f alo = __builtin_shufflevector(ra[0], ra[1], 2, 3, 6, 7), ahi = __builtin_shufflevector(ra[2], ra[3], 2, 3, 6, 7);
-    values = __builtin_shufflevector(rlo, rhi, 0, 1, 2, 3, 4, 5, 6, 7);
-    alphas = __builtin_shufflevector(alo, ahi, 0, 1, 2, 3, 4, 5, 6, 7);
-  }
-}
-
-}  // namespace
-
-// llvmpipeFloatTexelKernel over a batch, eight lanes (8 / Channels pixels) per blend call; the
-// pixels left over one at a time. Lane for lane the same operations, so the same bits.
+// llvmpipeFloatTexelKernel over a batch: whole groups of 8 / Channels pixels in the eight-lane
+// kernel chosen per draw (AVX2), the pixels left over one at a time. Lane for lane the same
+// operations, so the same bits.
 template <int Channels, bool Half>
 void TargetBlender::llvmpipeFloatTexelBatch(const TargetBlender& b, const glm::vec4* const* sources,
                                             uint8_t* const* texels, int n) {
-  constexpr int P = 8 / Channels;
-  LlvmpipeLanes8 lanes;
-  const v4f c = load4(b.rawConstant_);
-  v4f cs[P];
-  for (v4f& x : cs) x = c;
-  v8f constantAlpha;
-  gatherLanes<Channels>(cs, lanes.constant, constantAlpha);
-  lanes.constantAlpha = constantAlpha;
-  int i = 0;
-  for (; i + P <= n; i += P) {
-    v4f s[P], d[P];
-    for (int p = 0; p < P; ++p) {
-      s[p] = load4(*sources[i + p]);
-      d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
-    }
-    gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
-    gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
-    v8f r;
-    b.llvmpipeBlend8_(b.llvmpipePlan_, lanes, r);
-    // The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
-    // encodeHalfInline), then each pixel's channels stored whole: read lane by lane, the result
-    // waited on its own store (store forwarding) and the rounding was tested per channel.
-    if constexpr (Half) {
-      alignas(16) uint16_t h[8];
-#if defined(OITREF_HAVE_F16C)
-      const __m128i packed = b.profile_.fp16 == Rounding::TowardZero
-                                 ? _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
-                                 : _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-      _mm_store_si128(reinterpret_cast<__m128i*>(h), packed);
-#else
-      for (int l = 0; l < 8; ++l) h[l] = encodeHalfInline(r[l], b.profile_.fp16);
-#endif
-      for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], h + p * Channels, 2 * Channels);
-    } else {
-      alignas(32) float f[8];
-      std::memcpy(f, &r, sizeof f);
-      for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], f + p * Channels, 4 * Channels);
-    }
-  }
+  int i = b.llvmpipeTexels_(b.llvmpipePlan_, b.rawConstant_, sources, texels, n, b.profile_.fp16);
   for (; i < n; ++i) llvmpipeFloatTexelKernel<Channels, Half>(b, *sources[i], texels[i]);
 }
 

@@ -71,7 +71,7 @@ class TargetBlender {
   template <int Channels, bool Half>
   void useLlvmpipeTexel() {
     kernel_ = llvmpipeFloatTexelKernel<Channels, Half>;
-    batchKernel_ = llvmpipeBlend8_ ? llvmpipeFloatTexelBatch<Channels, Half> : batchOf<llvmpipeFloatTexelKernel<Channels, Half>>;
+    batchKernel_ = llvmpipeTexels_ ? llvmpipeFloatTexelBatch<Channels, Half> : batchOf<llvmpipeFloatTexelKernel<Channels, Half>>;
   }
   static void nvidiaKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void maskedOffKernel(const TargetBlender&, const glm::vec4&, uint8_t*) {}
@@ -86,7 +86,7 @@ class TargetBlender {
   bool flushDenormals_;
   LlvmpipeFloatPlan llvmpipePlan_;
   LlvmpipeFloatBlendFn llvmpipeBlend_ = nullptr;
-  LlvmpipeFloatBlend8Fn llvmpipeBlend8_ = nullptr;
+  LlvmpipeFloatTexelsFn llvmpipeTexels_ = nullptr;
   UnormIntegerPlan unormPlan_;
   UnormIntegerBlendFn unormBlend_ = nullptr;
   UnormIntegerBatchFn unormBatch_ = nullptr;
