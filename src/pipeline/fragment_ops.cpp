@@ -15,6 +15,7 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
     if (fb.color[size_t(t)]) smallFloatBound |= isSmallFloatFormat(fb.color[size_t(t)]->format());
   for (int t = 0; t < kMaxColorTargets; ++t) {
     if (fb.color[size_t(t)]) boundTargets_ |= 1u << t;
+    for (int i = 0; i < kBatch; ++i) allSources_[t][i] = outputs_.colors(t) + i;
     blenders_.emplace_back(fb.color[size_t(t)] ? fb.color[size_t(t)]->format() : Format{}, state.blend[size_t(t)],
                            state.blendConstant, state.profile, true, smallFloatBound);
   }
@@ -275,12 +276,14 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
 }
 
 void FragmentStage::blendBatch(int y, int count, const int* xs, const int* index) {
-  const glm::vec4* sources[kBatch];
+  const glm::vec4* gathered[kBatch];
   uint8_t* texels[kBatch];
   // The targets every fragment of the batch wrote (the usual case) take all of them without
   // compaction: compacting, each fragment's slot waited on the previous one's written bit.
   unsigned writtenByAll = ~0u;
   for (int i = 0; i < count; ++i) writtenByAll &= outputs_.writtenMask(index ? index[i] : i);
+  // Consecutive pixels (ascending and distinct, so the ends tell): texel addresses by a stride.
+  const bool consecutive = count > 0 && xs[count - 1] - xs[0] == count - 1;
   for (unsigned targets = boundTargets_; targets;) {
     const int t = __builtin_ctz(targets);
     targets &= targets - 1;
@@ -289,16 +292,24 @@ void FragmentStage::blendBatch(int y, int count, const int* xs, const int* index
     const size_t bytes = image.bytesPerTexel();
     const glm::vec4* colors = outputs_.colors(t);
     int n = 0;
+    const glm::vec4* const* sources = gathered;
     if ((writtenByAll >> t) & 1u) {
-      for (int i = 0; i < count; ++i) {
-        sources[i] = colors + (index ? index[i] : i);
-        texels[i] = row + size_t(xs[i]) * bytes;
+      if (index) {
+        for (int i = 0; i < count; ++i) gathered[i] = colors + index[i];
+      } else {
+        sources = allSources_[t];
+      }
+      if (consecutive) {
+        uint8_t* first = row + size_t(xs[0]) * bytes;
+        for (int i = 0; i < count; ++i) texels[i] = first + size_t(i) * bytes;
+      } else {
+        for (int i = 0; i < count; ++i) texels[i] = row + size_t(xs[i]) * bytes;
       }
       n = count;
     } else {
       for (int i = 0; i < count; ++i) {
         const int k = index ? index[i] : i;
-        sources[n] = colors + k;
+        gathered[n] = colors + k;
         texels[n] = row + size_t(xs[i]) * bytes;
         n += (outputs_.writtenMask(k) >> t) & 1u;
       }

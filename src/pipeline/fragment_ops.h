@@ -33,6 +33,8 @@ class FragmentStage {
   // `viewport` maps pixel centres to NDC: x_n = 2(x + ½ − vx)/vw − 1, likewise y.
   FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry,
                 const PixelRect& viewport, uint32_t drawId = 0);
+  FragmentStage(const FragmentStage&) = delete;  // allSources_ points into the stage itself
+  FragmentStage& operator=(const FragmentStage&) = delete;
 
   // The next draw of a sequence with the same framebuffer and state (Renderer::drawSequence):
   // its program, geometry and id; the blenders and counters carry over.
@@ -129,6 +131,9 @@ class FragmentStage {
   FragmentOutput output_;
   FragmentCounters counters_;
   FragmentBatchOutput outputs_;  // a batch's, for span() and fullscreenSpan()
+  // Per target, the sources of a batch that blends all of its fragments in order: fragment i's
+  // colour, outputs_.colors(t) + i (fixed for the stage's life: it is not copied or moved).
+  const glm::vec4* allSources_[kMaxColorTargets][kBatch];
   int blendX_[kBatch], blendIndex_[kBatch];
   // The batch path's fragments as arrays (FragmentBatch): columns, window depth in double (the
   // depth test's) and in fp32 (gl_FragCoord.z), view depth, and the attributes' rows.
