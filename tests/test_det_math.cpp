@@ -1,6 +1,8 @@
 // The deterministic exp/log used by the methods, against the C library over their ranges.
 #include <catch2/catch.hpp>
 
+#include <cfloat>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -79,6 +81,18 @@ TEST_CASE("det math: the batched log gives detLog's bits in every lane", "[detma
     x.push_back(special);
   for (int i = 0; i < 100001; ++i)
     x.push_back(i % 3 == 0 ? double(rng.uniform(0.0f, 1.0f)) : std::ldexp(double(rng.uniform(0.5f, 1.0f)), int(rng.next() % 200) - 100));
+  // Every mantissa bit, every exponent (the lanes build frexp from the bits), and the normal range's
+  // ends and the subnormals beside them.
+  for (const double end : {DBL_MAX, DBL_MIN, std::nextafter(DBL_MIN, 0.0), std::nextafter(DBL_MIN, 1.0), DBL_TRUE_MIN,
+                           std::nextafter(0.70710678118654752440, 0.0), std::nextafter(0.70710678118654752440, 1.0)})
+    x.push_back(end);
+  for (int k = -1074; k <= 1023; ++k) {
+    const uint64_t mantissa = (uint64_t(rng.next()) << 32 | rng.next()) & 0x000fffffffffffffull;
+    double unit;  // in [1, 2) with the random mantissa
+    const uint64_t bits = mantissa | uint64_t(1023) << 52;
+    std::memcpy(&unit, &bits, sizeof unit);
+    x.push_back(std::ldexp(unit, k));
+  }
   std::vector<double> batched(x.size());
   methods::detLogBatch(x.data(), batched.data(), int(x.size()));
   size_t different = 0;
