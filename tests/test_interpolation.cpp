@@ -7,7 +7,11 @@
 //    coverage only), so the results must be within 1 ulp (1e-7 absolute near zero) plus the
 //    error of solving a 3×3 system in double, 64·cond(M)·2^-53 (large when a vertex is near
 //    the eye plane).
+//  * A program that reads fewer attributes (FragmentProgram::attributesRead) gets the same bits.
 #include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -187,4 +191,44 @@ TEST_CASE("interpolation: clipped triangles interpolate as the original triangle
   }
   INFO("worst error " << worst << " ulps over " << checked << " fragments");
   CHECK(checked > 3000);
+}
+
+TEST_CASE("interpolation: a program that reads fewer attributes gets those, bit for bit", "[interp]") {
+  // FragmentProgram::attributesRead: only the leading attributes are interpolated, with the same
+  // bits as when all are; the shader sees the count. Spans and one fragment at a time.
+  const int w = 40, h = 32;
+  test::BitStream rng(31);
+  for (bool perFragment : {false, true}) {
+    Renderer r(RendererOptions{2, 16, perFragment});
+    Geometry g;
+    g.attributeCount = 6;
+    for (int k = 0; k < 9; ++k) {
+      g.clipPositions.push_back(glm::vec4(rng.uniform(-1.5f, 1.5f), rng.uniform(-1.5f, 1.5f), rng.uniform(-0.9f, 0.9f), rng.uniform(0.5f, 2.0f)));
+      for (int a = 0; a < 6; ++a) g.attributes.push_back(rng.uniform(-3, 3));
+    }
+    for (uint32_t i = 0; i < 9; ++i) g.indices.push_back(i);
+    auto render = [&](int read) {
+      Image out(makeFormat(FormatId::RGBA32F), w, h);
+      out.clear(glm::vec4(NAN), exactProfile());
+      Framebuffer fb;
+      fb.color[0] = &out;
+      FragmentProgram program = programOf([read](const FragmentInput& in, FragmentOutput& o) {
+        if (in.attributeCount != (read < 0 ? 6 : read)) return o.write(0, glm::vec4(-1.0f));
+        o.write(0, in.vec4At(0));
+      });
+      program.attributesRead = read;
+      r.draw(fb, PipelineState{}, g, program);
+      return out;
+    };
+    const Image all = render(-1), four = render(4);
+    int covered = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const glm::vec4 a = all.fetch(x, y), b = four.fetch(x, y);
+        INFO("pixel " << x << "," << y << (perFragment ? " per fragment" : " spans"));
+        REQUIRE(std::memcmp(&a, &b, sizeof a) == 0);
+        covered += !std::isnan(a.x);
+      }
+    CHECK(covered > 100);
+  }
 }

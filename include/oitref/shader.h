@@ -215,6 +215,10 @@ struct FragmentProgram {
   bool earlyFragmentTests = false;
   FragmentBatchShader batch = {};  // optional: `shader` over a batch
   bool pure = false;
+  // How many of the geometry's attributes, from the first, the shader reads (−1: all): only those
+  // are interpolated, and FragmentInput::attributeCount says so (GL interpolates only the
+  // inputs a shader uses, too).
+  int attributesRead = -1;
 };
 
 // A program whose per-fragment and batch shaders are the one callable

@@ -1,6 +1,7 @@
 #include "methods/method_common.h"
 
 #include <chrono>
+#include <utility>
 #include <stdexcept>
 
 #include "blend/method_blend_states.h"
@@ -95,12 +96,13 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
   for (const ScenePart& part : context_.geometry.parts) {
     if (part.transparent && !everything) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
-    draws.push_back({&clipGeometry(part), programOf([&object](const FragmentInput& in, FragmentOutput& out) {
-                       const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride);
-                       out.write(0, glm::vec4(glm::vec3(c), 1.0f));
-                       out.write(1, glm::vec4(glm::vec3(c), 1.0f));
-                     }),
-                     uint32_t(part.objectIndex)});
+    FragmentProgram program = programOf([&object](const FragmentInput& in, FragmentOutput& out) {
+      const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride);
+      out.write(0, glm::vec4(glm::vec3(c), 1.0f));
+      out.write(1, glm::vec4(glm::vec3(c), 1.0f));
+    });
+    program.attributesRead = shadeSurfaceReads(object);
+    draws.push_back({&clipGeometry(part), std::move(program), uint32_t(part.objectIndex)});
   }
   report.stats = context_.renderer.drawSequence(fb, st, draws);
   report.ms = msSince(t0);
@@ -124,7 +126,9 @@ void PassRunner::drawTransparent(const std::string& name, Framebuffer& fb, const
   for (const ScenePart& part : context_.geometry.parts) {
     if (!part.transparent) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
-    draws.push_back({&clipGeometry(part), programFor(object), uint32_t(part.objectIndex)});
+    FragmentProgram program = programFor(object);
+    program.attributesRead = shadeSurfaceReads(object);  // the method's shader reads them through shadeSurface
+    draws.push_back({&clipGeometry(part), std::move(program), uint32_t(part.objectIndex)});
   }
   report.stats = context_.renderer.drawSequence(fb, state, draws);
   report.ms = msSince(t0);

@@ -37,7 +37,9 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   earlyReject_ = !earlyTests_ && program.pure && !program.writesDepth && fb_.depth != nullptr && depth.testEnabled;
   if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, depth.writeMask);
   if (earlyReject_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, false);
-  const size_t n = size_t(geometry ? geometry->attributeCount : 0);
+  // Only the attributes the shader reads are interpolated (FragmentProgram::attributesRead).
+  size_t n = size_t(geometry ? geometry->attributeCount : 0);
+  if (program.attributesRead >= 0) n = std::min(n, size_t(program.attributesRead));
   vertexAttributes_.assign(3 * n, 0.0);
   attributes_.assign(n, 0.0f);
   batchAttributes_.assign(size_t(kBatch) * n, 0.0f);
@@ -46,7 +48,7 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
 void FragmentStage::beginTriangle(const SetupTriangle& t) {
   triangle_ = &t;
   interpolation_ = &t.interpolation;
-  const int n = geometry_->attributeCount;
+  const int n = int(attributes_.size());
   for (int i = 0; i < 3; ++i) {
     const float* a = geometry_->vertexAttributes(t.vertexIndex[i]);
     for (int k = 0; k < n; ++k) vertexAttributes_[size_t(i * n + k)] = a[k];
