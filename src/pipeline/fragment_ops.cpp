@@ -133,10 +133,10 @@ void FragmentStage::span(int y, int x0, int x1) {
       for (int i = 0; i < n; ++i) alive[i] = i;
     }
     if (program_->batch) {
-      // The survivors as arrays, their barycentrics side by side, so that each attribute is
-      // interpolated over all of them in lanes (interpolateAttribute's expression per lane).
-      // Where every fragment survived (the usual case behind an opaque depth buffer), in lanes.
-      double c0[kBatch], c1[kBatch], c2[kBatch];
+      // The survivors as arrays (FragmentBatch), their barycentrics side by side so that each
+      // attribute is interpolated over all of them in lanes (interpolateAttribute's expression per
+      // lane). Where every fragment survived (the usual case in front of an opaque depth buffer),
+      // the span's own arrays are the batch's, converted in lanes.
       if (count == n) {
         for (int j = 0; j < n; j += 4) {
           lanes::d4 lz, lw;
@@ -151,6 +151,7 @@ void FragmentStage::span(int y, int x0, int x1) {
         shadeAndBlendBatch(y, count);
         continue;
       }
+      double c0[kBatch], c1[kBatch], c2[kBatch];
       for (int j = 0; j < count; ++j) {
         const int i = alive[j];
         batchX_[j] = start + i;
