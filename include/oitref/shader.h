@@ -67,7 +67,7 @@ struct FragmentBatch {
     in.frontFacing = frontFacing;
     in.primitiveId = primitiveId;
     in.drawId = drawId;
-    in.attributes = attributes + i;
+    in.attributes = attributes ? attributes + i : nullptr;  // none: full-screen passes, attribute-less draws
     in.attributeCount = attributeCount;
     in.attributeStride = attributeStride;
     return in;
