@@ -42,7 +42,7 @@ Geometry toClipGeometry(const ScenePart& part, const glm::mat4& viewProjection);
 // circle (r = 1 at its edge), 0 outside. Only +, −, × are used: the same bits on every machine.
 // Inline: every transparent fragment calls it. Attribute k at a[k · stride].
 // shadeSurfaceReads(object) is how many of the leading attributes it reads for the object.
-inline int shadeSurfaceReads(const SceneObject& object) { return object.type == ObjectType::Particles ? 6 : 4; }
+inline int shadeSurfaceReads(const SceneObject& object) { return object.type == ObjectType::Particles ? kSceneAttributeCount : 4; }
 inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int stride = 1) {
   glm::vec4 c(a[0], a[stride], a[2 * stride], a[3 * stride]);
   if (object.type == ObjectType::Particles) {

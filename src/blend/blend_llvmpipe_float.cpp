@@ -320,7 +320,7 @@ v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destina
 }
 // Eight lanes need AVX2's 256-bit integer operations (the DAZ, NaN and tiny tests); without it
 // the compiler splits them into scalar code slower than four lanes twice. Chosen at run time
-// (llvmpipeFloatBlend8For); the same IEEE operations per lane as the four-lane path.
+// (llvmpipeFloatTexelsFor); the same IEEE operations per lane as the four-lane path.
 #define LP_AVX2 [[gnu::target("avx2")]]
 
 // LlvmpipeFloatTexelsFn's loop, inlined into each compiled function.
