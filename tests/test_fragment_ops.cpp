@@ -302,6 +302,71 @@ TEST_CASE("fragment ops: a pure program that may discard gives the late test's a
   CHECK(fewer >= 8);  // LESS and LEQUAL reject early, with or without depth writes, on both paths
 }
 
+TEST_CASE("fragment ops: spans rejected by their depth bound give the per-fragment path's bits", "[fragment]") {
+  // The span path skips runs whose window-z interval (pipeline/depth_bounds.h) fails the depth
+  // test at every pixel; the per-fragment path tests each fragment. Perspective triangles in a few
+  // sheets of nearly equal depth (their codes tie or differ by a step in d16 and d24), drawn with
+  // depth writes, so later sheets are partly hidden by earlier ones: for every depth format and
+  // compare function, early tests and a pure program that discards (tested early without writing),
+  // the colour and depth bytes and the counts must be the same on both paths.
+  constexpr int kW = 160, kH = 120;
+  test::BitStream rng(5);
+  Geometry g;
+  for (int i = 0; i < 120; ++i) {
+    const double sheet = 0.2 + 0.15 * double(rng.next() % 4), tilt = rng.uniform(-0.05f, 0.05f);
+    for (int k = 0; k < 3; ++k) {
+      const double x = rng.uniform(-20, kW + 20), y = rng.uniform(-20, kH + 20), w = rng.uniform(1.0f, 8.0f);
+      const double zn = sheet + tilt * x / kW + rng.uniform(-1e-7f, 1e-7f);
+      g.clipPositions.push_back(glm::vec4(float((2 * x / kW - 1) * w), float((2 * y / kH - 1) * w), float(zn * w), float(w)));
+    }
+  }
+  const auto shade = [](const FragmentInput& in, FragmentOutput& o) { o.write(0, colorOf(in.primitiveId)); };
+  const auto discarding = [](const FragmentInput& in, FragmentOutput& o) {
+    if ((in.primitiveId + uint32_t(in.x)) % 5 == 0) return o.discard();
+    o.write(0, colorOf(in.primitiveId));
+  };
+  int compared = 0;
+  uint64_t failed = 0;
+  // Tiles of 256 give spans of several runs (kRejectRun), tiles of 16 spans shorter than one.
+  for (int tile : {16, 256})
+    for (DepthFormat format : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F})
+      for (CompareFunc func : {CompareFunc::Less, CompareFunc::LEqual, CompareFunc::Greater, CompareFunc::GEqual,
+                               CompareFunc::Equal})
+        for (bool pure : {false, true}) {
+          std::vector<uint8_t> bytes[2];
+          DrawStats stats[2];
+          for (int perFragment = 0; perFragment < 2; ++perFragment) {
+            Renderer r(RendererOptions{2, tile, perFragment == 1});
+            Image a(makeFormat(FormatId::RGBA8), kW, kH);
+            a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+            DepthBuffer depth(format, kW, kH);
+            const bool farther = func == CompareFunc::Greater || func == CompareFunc::GEqual;
+            depth.clear(farther ? 0.0 : func == CompareFunc::Equal ? 0.5 : 1.0);
+            Framebuffer fb;
+            fb.color[0] = &a, fb.depth = &depth;
+            PipelineState st;
+            st.depth = {true, func, true, false};
+            stats[perFragment] = r.draw(fb, st, g, pure ? programOf(discarding, true, false, false, true) : programOf(shade));
+            bytes[perFragment] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
+            for (int y = 0; y < kH; ++y)
+              for (int x = 0; x < kW; ++x) {
+                const uint32_t d = depth.load(x, y);
+                bytes[perFragment].insert(bytes[perFragment].end(), reinterpret_cast<const uint8_t*>(&d),
+                                          reinterpret_cast<const uint8_t*>(&d) + 4);
+              }
+          }
+          INFO("tile " << tile << " " << toString(format) << " " << toString(func) << " pure " << pure);
+          CHECK(bytes[0] == bytes[1]);
+          CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+          CHECK(stats[0].fragmentsDepthFailed == stats[1].fragmentsDepthFailed);
+          CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+          failed += stats[0].fragmentsDepthFailed;
+          ++compared;
+        }
+  CHECK(compared == 60);
+  CHECK(failed > 200000);  // most of the later sheets' fragments are hidden
+}
+
 TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after another", "[fragment]") {
   // Renderer::drawSequence runs every draw tile by tile; OVER does not commute, so the bytes are
   // those of separate draw() calls only if each pixel still sees the draws in order. drawId

@@ -71,6 +71,38 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
   return count;
 }
 
+template <DepthFormat Format, CompareFunc Func>
+bool runRejects(const DepthBuffer& depth, int x, int y, int n, double zLow, double zHigh) {
+  using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
+  constexpr bool nearer = Func == CompareFunc::Less || Func == CompareFunc::LEqual;
+  const uint32_t code = encodeDepthAs<Format>(nearer ? zLow : zHigh);
+  const Word* row = static_cast<const Word*>(depth.texel(x, y));
+  const lanes::u4 codes = lanes::u4{} + code;
+  lanes::i4 passes = {};
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    lanes::u4 stored;
+    if constexpr (Format == DepthFormat::D16) stored = lanes::u4{row[i], row[i + 1], row[i + 2], row[i + 3]};
+    else std::memcpy(&stored, row + i, sizeof stored);
+    passes |= depthTestPassesAs<Func, Format>(codes, stored);
+  }
+  if (laneMask(passes)) return false;
+  for (; i < n; ++i)
+    if (depthTestPassesAs<Func, Format>(code, uint32_t(row[i]))) return false;
+  return true;
+}
+
+template <DepthFormat Format>
+DepthRunRejects runRejectsFor(CompareFunc func) {
+  switch (func) {
+    case CompareFunc::Less: return runRejects<Format, CompareFunc::Less>;
+    case CompareFunc::LEqual: return runRejects<Format, CompareFunc::LEqual>;
+    case CompareFunc::Greater: return runRejects<Format, CompareFunc::Greater>;
+    case CompareFunc::GEqual: return runRejects<Format, CompareFunc::GEqual>;
+    default: return nullptr;
+  }
+}
+
 template <DepthFormat Format, bool Write>
 DepthBatchTest forFunc(CompareFunc func) {
   switch (func) {
@@ -100,6 +132,15 @@ DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMa
     case DepthFormat::D32F: break;
   }
   return forWrite<DepthFormat::D32F>(func, writeMask);
+}
+
+DepthRunRejects depthRunRejects(DepthFormat format, CompareFunc func) {
+  switch (format) {
+    case DepthFormat::D16: return runRejectsFor<DepthFormat::D16>(func);
+    case DepthFormat::D24: return runRejectsFor<DepthFormat::D24>(func);
+    case DepthFormat::D32F: break;
+  }
+  return runRejectsFor<DepthFormat::D32F>(func);
 }
 
 }  // namespace oitref::detail

@@ -17,4 +17,13 @@ using DepthBatchTest = int (*)(DepthBuffer& depth, int x, int y, const double* z
 
 DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMask);
 
+// Whether every pixel (x + i, y), i < n, fails the test for every window z in [zLow, zHigh]
+// (pipeline/depth_bounds.h): then none of them passes, whatever its exact z. The depth codes are
+// monotone in z, so the bound's code nearest to passing stands for all of them: zLow's for less
+// and lequal, zHigh's for greater and gequal, compared by depthTestPassesAs with each stored
+// depth. Null for the functions with no such bound (equal, notequal, always, never).
+using DepthRunRejects = bool (*)(const DepthBuffer& depth, int x, int y, int n, double zLow, double zHigh);
+
+DepthRunRejects depthRunRejects(DepthFormat format, CompareFunc func);
+
 }  // namespace oitref::detail

@@ -20,6 +20,7 @@
 #include "oitref/lanes.h"
 #include "oitref/renderer.h"
 #include "pipeline/depth_batch.h"
+#include "pipeline/depth_bounds.h"
 #include "pipeline/setup.h"
 
 namespace oitref::detail {
@@ -77,6 +78,10 @@ class FragmentStage {
   // The batch path: the fragments [0, count) of row y in the batch arrays (batchX_, batchZ_, …),
   // early-tested already, shaded by one program_->batch call, then afterShader and blending.
   void shadeAndBlendBatch(int y, int count);
+  // The pixels [start, start + n) of row y at NDC y `yn`, n ≤ kBatch, through the batch path:
+  // interpolation in lanes, the early depth test, then shadeAndBlendBatch (or the per-fragment
+  // shader and blendBatch).
+  void spanBatch(int y, double yn, int start, int n);
   // a = Σ b_i a_i, rounded once to fp32 (the header comment), for one fragment's attributes, or
   // for `count` fragments' as rows (attribute k of fragment j at out[k·kBatch + j]), four lanes
   // at a time.
@@ -108,6 +113,10 @@ class FragmentStage {
   void prefetchDepthRow(int y, int x0, int x1) const;
 
   static constexpr int kBatch = FragmentBatch::kCapacity;
+  // The pixels span() asks depthRunRejects_ about at a time: a span within a tile is at most 64.
+  // A run that is rejected in part splits the batch around it, and each batch has a cost of its
+  // own: runs of 16 made dense's opaque pass slower than one run per span (81–106 → 63–66 ms).
+  static constexpr int kRejectRun = 64;
 
   Framebuffer& fb_;
   const PipelineState& state_;
@@ -124,6 +133,12 @@ class FragmentStage {
   // writing, and a fragment that fails it is not shaded (FragmentProgram::pure).
   bool earlyReject_;
   DepthBatchTest depthBatchTest_ = nullptr;  // span's early test, for the draw's depth state
+  // Rejecting runs whose window-z interval fails the test (depth_bounds.h): null where the draw
+  // tests no depth early or its compare function has no such bound.
+  DepthRunRejects depthRunRejects_ = nullptr;
+  WindowDepthBounds depthBounds_;  // of the current triangle and span
+  static constexpr int kMaxRejectBackoff = 15;
+  int rejectBackoff_ = 0, rejectSkip_ = 0;  // spans of the current triangle to take without the check
   unsigned boundTargets_ = 0;
   std::vector<TargetBlender> blenders_;  // per bound target, in target order
   std::vector<double> vertexAttributes_;  // 3 × attributeCount, of the original vertices
