@@ -46,28 +46,50 @@ TEST_CASE("det math: sin and cos agree with libm to a few double ulps", "[detmat
   CHECK(std::isnan(methods::detSinCos(INFINITY).sin));
 }
 
-TEST_CASE("det math: the batched exp gives detExp's bits in every lane", "[detmath]") {
-  // detExpBatch overlaps four lanes' division chains; each lane must equal detExp bit for bit,
-  // the special arguments and a count that is not a multiple of four included.
+TEST_CASE("det math: the batched float exp gives float(detExp) in every lane", "[detmath]") {
+  // detExpFloatBatch decides most lanes from a polynomial without divisions and an error bound,
+  // the rest through detExp: every lane must equal float(detExp(x)), bit for bit. Besides random
+  // arguments, the special ones, the ends of the fast range, nearbyint's ties, and arguments whose
+  // e^x lies within a few double ulps of a float's rounding boundary (half-way between two
+  // floats, and the float boundary at the subnormals and at FLT_MAX): there the bound cannot
+  // decide, and a lane that guessed would be wrong about half the time.
   test::BitStream rng(99);
   std::vector<double> x;
-  for (const double special : {0.0, -0.0, 709.0, 709.5, -745.0, -745.5, 1e-300, -1e-310, 0.3465735902799726, double(NAN), double(INFINITY), -double(INFINITY)})
+  for (const double special : {0.0, -0.0, 700.0, -700.0, 700.0000001, -700.0000001, 709.0, 709.5, -745.0, -745.5, 1e-300,
+                               -1e-310, 0.3465735902799726, double(NAN), double(INFINITY), -double(INFINITY)})
     x.push_back(special);
-  for (int i = 0; i < 100001; ++i)
+  for (int i = 0; i < 200001; ++i)
     x.push_back(double(rng.uniform(-60.0f, 60.0f)) * (i % 7 == 0 ? 12.0 : 1.0) + double(rng.uniform(-1, 1)) * 1e-9);
-  // Where ldexp's result is subnormal or overflows (the batch scales in two steps there), and the
-  // arguments whose k = x·log2(e) lies half-way between integers (nearbyint's ties).
-  for (int i = 0; i <= 40000; ++i) x.push_back(-745.0 + i * (45.0 / 40000.0));
-  for (int i = 0; i <= 10000; ++i) x.push_back(700.0 + i * (9.0 / 10000.0));
   for (int k = -1075; k <= 1023; ++k) x.push_back((k + 0.5) / 1.44269504088896338700);
-  std::vector<double> batched(x.size());
-  methods::detExpBatch(x.data(), batched.data(), int(x.size()));
-  size_t different = 0;
-  for (size_t i = 0; i < x.size(); ++i) {
-    const double want = methods::detExp(x[i]);
-    different += std::memcmp(&want, &batched[i], sizeof(double)) != 0;
+  int boundaries = 0;
+  for (int i = 0; i < 20000; ++i) {
+    // A random float f (normal, subnormal or near the top), the midpoint to its successor, and
+    // arguments around log(midpoint).
+    const int e = int(rng.next() % 276) - 150;
+    const float f = std::ldexp(rng.uniform(1.0f, 2.0f), e);
+    const double mid = (double(f) + double(std::nextafter(f, INFINITY))) / 2.0;
+    if (!std::isfinite(mid) || mid <= 0.0) continue;
+    double a = std::log(mid);
+    for (int step = 0; step < 3; ++step, a = std::nextafter(a, INFINITY)) x.push_back(a);
+    ++boundaries;
   }
+  std::vector<float> batched(x.size());
+  methods::detExpFloatBatch(x.data(), batched.data(), int(x.size()));
+  size_t different = 0, ambiguous = 0;
+  double worst = 0;  // |detExpFast − detExp| / detExp: the bound assumes at most 2^-40
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double e = methods::detExp(x[i]);
+    const float want = float(e);
+    different += std::memcmp(&want, &batched[i], sizeof(float)) != 0;
+    if (std::fabs(x[i]) <= 700.0) worst = std::max(worst, std::fabs(methods::detExpFast(x[i]) - e) / e);
+    // How many arguments an error of 2^-40 could move across a boundary: the fallback's share.
+    ambiguous += std::isfinite(e) && float(e * (1 - 0x1p-40)) != float(e * (1 + 0x1p-40));
+  }
+  INFO(ambiguous << " arguments need detExp itself; worst relative difference " << worst);
   CHECK(different == 0);
+  CHECK(worst <= 0x1p-49);  // far inside the bound's 2^-40 (the analysis gives at most ~2^-45)
+  CHECK(boundaries > 19000);
+  CHECK(ambiguous > 10000);  // the boundary arguments reach the fallback
 }
 
 TEST_CASE("det math: the batched log gives detLog's bits in every lane", "[detmath]") {

@@ -4,6 +4,7 @@
 // ulps (the test checks 4e-16 relative against libm), then rounded once to fp32 by the caller.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -24,51 +25,74 @@ inline double detExp(double x) {
   return std::ldexp(p, int(k));
 }
 
-// detExp of n arguments in vector lanes, eight groups of four side by side: each lane takes
-// detExp's operations in its order (so the same bits); what changes is that 32 chains of 16
-// dependent divisions overlap, which is most of detExp's time (one group at a time, each chain
-// waited on its divisions' latency: MBOIT's accumulation pass on dense 960×540 took 530 ms for
-// 13 M fragments with four lanes, 475 with 32). The steps around them are lane operations too, each
-// giving what detExp's call gives for the arguments it reaches (the others take detExp itself):
-//   nearbyint(v), |v| < 2^51 in the default rounding mode: (v + 1.5·2^52) − 1.5·2^52, whose sum
-//     holds k in its low mantissa bits (round half to even, as nearbyint);
-//   ldexp(p, k) = p·2^k rounded once: with 2^k built from its bits where it is normal (k ≥ −1022),
-//     otherwise p·2^(k+64), exact because it is normal (p > ½, k ≥ −1075), then ·2^−64, which
-//     rounds once into the subnormals as ldexp does.
-inline void detExpBatch(const double* x, double* out, int n) {
+// The polynomial of detExpFloatBatch: Σ r^m / m! for m ≤ 13 in Horner form, with coefficients
+// 1/m! computed as 1/(m−1)! / m (within 13 ulps), on one value or on lanes.
+template <typename D>
+inline D detExpTaylor13(D r) {
+  constexpr int kDegree = 13;
+  constexpr auto kCoefficients = [] {
+    std::array<double, kDegree + 1> c{};
+    c[0] = 1.0;
+    for (int m = 1; m <= kDegree; ++m) c[size_t(m)] = c[size_t(m - 1)] / m;
+    return c;
+  }();
+  D q = D{} + kCoefficients[kDegree];
+  for (int m = kDegree - 1; m >= 0; --m) q = q * r + kCoefficients[size_t(m)];
+  return q;
+}
+// detExp's reduction and the polynomial, for |x| ≤ 700: what each lane of detExpFloatBatch
+// computes before its rounding test (the tests check it against detExp).
+inline double detExpFast(double x) {
+  constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
+  const double k = std::nearbyint(x * 1.44269504088896338700);
+  const double r = (x - k * kLn2Hi) - k * kLn2Lo;
+  return std::ldexp(detExpTaylor13(r), int(k));
+}
+
+// float(detExp(x)) for n arguments, what MBOIT's and MT's weights take, without detExp's 16
+// divisions where they cannot change the float. Each lane computes detExpFast(x): detExp's k and r
+// (nearbyint(v) for |v| < 2^51 as (v + 1.5·2^52) − 1.5·2^52 in the default rounding mode, round
+// half to even), detExpTaylor13(r), scaled by 2^k (exact: the result is normal for |x| ≤ 700).
+// That value and detExp's are both within 200 double ulps of 2^k·e^r for the shared r (Horner's
+// rounding bound: γ_48·e^(2|r|) for detExp's three roundings a step, γ_27·e^(2|r|) plus the
+// coefficients' 13 ulps here, |r| ≤ ln2/2 + 2^−40; the truncated tails are below 2^−56). So where
+// the interval of ±2^−40 relative around the fast value rounds to one float, that float is
+// float(detExp(x)) (rounding is monotone). Elsewhere — a value within 2^−40 of a float's rounding
+// boundary, about one in 30,000 — and for x outside [−700, 700] or NaN, the lane takes detExp
+// itself. Four groups of four lanes side by side, so that their chains of multiply-adds overlap.
+inline void detExpFloatBatch(const double* x, float* out, int n) {
   typedef double v4d __attribute__((vector_size(32)));
   typedef int64_t v4l __attribute__((vector_size(32)));
+  typedef float v4f __attribute__((vector_size(16)));
+  typedef int32_t v4i __attribute__((vector_size(16)));
   constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
   constexpr double kRound = 6755399441055744.0;  // 1.5·2^52
-  constexpr int kGroups = 8;  // chains side by side, so that their divisions overlap
+  constexpr int kGroups = 4;
   for (int start = 0; start < n; start += 4 * kGroups) {
     const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
-    v4d v[kGroups] = {}, k[kGroups], r[kGroups], p[kGroups];
-    v4l kBits[kGroups];
+    v4d v[kGroups] = {}, r[kGroups], q[kGroups];
+    v4l kBits[kGroups], regular[kGroups];
     for (int i = 0; i < lanes; ++i) v[i / 4][i % 4] = x[start + i];
     for (int g = 0; g < kGroups; ++g) {
-      // Lanes out of detExp's range (and unused ones, 0) are computed and then replaced below.
-      const v4l regular = (v[g] == v[g]) & (v[g] <= 709.0) & (v[g] >= -745.0);
-      const v4d inRange = regular ? v[g] : v4d{};
+      regular[g] = (v[g] == v[g]) & (v[g] <= 700.0) & (v[g] >= -700.0);
+      const v4d inRange = regular[g] ? v[g] : v4d{};
       const v4d shifted = inRange * 1.44269504088896338700 + kRound;
-      k[g] = shifted - kRound;
+      const v4d k = shifted - kRound;
       kBits[g] = (v4l)shifted - (v4l)(v4d{} + kRound);
-      r[g] = (inRange - k[g] * kLn2Hi) - k[g] * kLn2Lo;
-      p[g] = v4d{1.0, 1.0, 1.0, 1.0};
+      r[g] = (inRange - k * kLn2Hi) - k * kLn2Lo;  // detExp's r
     }
-    for (int m = 16; m >= 1; --m)
-      for (int g = 0; g < kGroups; ++g) p[g] = 1.0 + p[g] * r[g] / double(m);
-    double result[4 * kGroups];
+    for (int g = 0; g < kGroups; ++g) q[g] = detExpTaylor13(r[g]);  // inlined: the groups' chains interleave
+    float result[4 * kGroups];
+    int decided[4 * kGroups];
     for (int g = 0; g < kGroups; ++g) {
-      const v4l low = kBits[g] < -1022;
-      const v4d scaled = p[g] * (v4d)(((low ? kBits[g] + 64 : kBits[g]) + 1023) << 52);
-      const v4d y = low ? scaled * 0x1p-64 : scaled;
-      std::memcpy(result + 4 * g, &y, sizeof y);
+      const v4d y = q[g] * (v4d)((kBits[g] + 1023) << 52);
+      const v4f lo = __builtin_convertvector(y * (1.0 - 0x1p-40), v4f);
+      const v4f hi = __builtin_convertvector(y * (1.0 + 0x1p-40), v4f);
+      const v4i same = ((v4i)lo == (v4i)hi) & __builtin_convertvector(regular[g], v4i);
+      std::memcpy(result + 4 * g, &lo, sizeof lo);
+      std::memcpy(decided + 4 * g, &same, sizeof same);
     }
-    for (int i = 0; i < lanes; ++i) {
-      const double xi = x[start + i];
-      out[start + i] = std::isnan(xi) || xi > 709.0 || xi < -745.0 ? detExp(xi) : result[i];
-    }
+    for (int i = 0; i < lanes; ++i) out[start + i] = decided[i] ? result[i] : float(detExp(x[start + i]));
   }
 }
 

@@ -143,11 +143,12 @@ class Mboit final : public Method {
     const bool quantised = quantised_;
     const float* biasVector = set.trigonometric ? nullptr : powerBiasVector(set.count, quantised);
     std::atomic<uint64_t> fallbacks{0};  // a sum: the same for any order of the fragments
-    // The weight e^(−b0·absorbance), the exponentials of a batch together (detExpBatch: the same
-    // bits as one at a time, its division chains overlapped).
+    // The weight e^(−b0·absorbance), the exponentials of a batch together (detExpFloatBatch:
+    // float(detExp) for each, its series' divisions only where they can change the float).
     accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
       const int count = in.count;
-      double exponent[kShaderBatch], weight[kShaderBatch];
+      double exponent[kShaderBatch];
+      float weight[kShaderBatch];
       bool clear[kShaderBatch];
       // The fragments that reconstruct (not clear), their normalised moments and depths side by
       // side, so that powerMomentAbsorbanceBatch can run them in lanes.
@@ -188,9 +189,9 @@ class Mboit final : public Method {
         if (fellBack[j]) fallbacks.fetch_add(1, std::memory_order_relaxed);
         exponent[used[j]] = -double(b0s[j]) * double(absorbance[j]);
       }
-      detExpBatch(exponent, weight, count);
+      detExpFloatBatch(exponent, weight, count);
       for (int i = 0; i < count; ++i) {
-        const float wi = float(weight[i]);
+        const float wi = weight[i];
         w[i] = clear[i] ? 1.0f : set.trigonometric ? wi : std::clamp(wi, 0.0f, 1.0f);
       }
     });

@@ -83,13 +83,13 @@ class Mt final : public Method {
     const float* biasVector = powerBiasVector(4, false);
     std::atomic<uint64_t> fallbacks{0};
     // A batch at a time: the bounds in lanes (powerMomentAbsorbanceBatch) and the weights'
-    // exponentials together (detExpBatch), each the same bits as one fragment at a time.
+    // exponentials together (detExpFloatBatch), each the same bits as one fragment at a time.
     accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
       const int count = in.count;
       if (count <= 0) return;  // never empty (FragmentBatch); said so, GCC sees b and u always written
       float b[4 * kShaderBatch], u[kShaderBatch], total[kShaderBatch], absorbance[kShaderBatch];
       bool fellBack[kShaderBatch];
-      double exponent[kShaderBatch], weight[kShaderBatch];
+      double exponent[kShaderBatch];
       for (int i = 0; i < count; ++i) {
         total[i] = opticalDepth.fetch(in.x[i], in.y).r;
         glm::vec4 m = moments.fetch(in.x[i], in.y);
@@ -102,8 +102,7 @@ class Mt final : public Method {
         if (fellBack[i]) fallbacks.fetch_add(1, std::memory_order_relaxed);
         exponent[i] = -double(std::clamp(absorbance[i], 0.0f, 1.0f)) * double(total[i]);
       }
-      detExpBatch(exponent, weight, count);
-      for (int i = 0; i < count; ++i) w[i] = float(weight[i]);
+      detExpFloatBatch(exponent, w, count);
     });
 
     compositeWeighted(run, t, accum, reveal);
