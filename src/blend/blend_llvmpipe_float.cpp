@@ -82,7 +82,10 @@ class Arith {
   using VecT = Vec<V>;
   using VI = IntLanesOf<V>;
   static constexpr int N = kLanes<V>;
-  Arith(bool flush, bool fma) : flush_(flush), fma_(fma) {}
+  // `deferred`: where not null, an operation does not fix its rare lanes (NaN, tiny) itself but
+  // marks them there, and the caller runs the whole blend again without it when any is marked
+  // (runDeferred): one test per blend instead of one per operation, the same bits.
+  Arith(bool flush, bool fma, VI* deferred = nullptr) : flush_(flush), fma_(fma), deferred_(deferred) {}
 
   LP_INLINE VecT add(const VecT& a, const VecT& b) const {
     if (a.kind == VecT::Zero) return b;
@@ -121,6 +124,10 @@ class Arith {
     // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
     const VI magnitude = (VI)r & 0x7fffffff;
     const VI special = (magnitude > 0x7f800000) | (flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : VI{});
+    if (deferred_) {
+      *deferred_ |= special;
+      return VecT::of(r);
+    }
     if (any(special))
       for (int i = 0; i < N; ++i) {
         if (r[i] != r[i]) r[i] = x86Nan(x[i], y[i], x86Nan(z[i], z[i], std::bit_cast<float>(0xffc00000u)));
@@ -132,7 +139,6 @@ class Arith {
   }
   LP_INLINE VecT lerp(const VecT& x, const VecT& v0, const VecT& v1) const { return mad(x, sub(v1, v0), v0); }
 
- private:
   // Whether any lane is set, with one vector test: or-ing the lanes one by one moved each into a
   // general register first, and these tests run several times in every blend call.
   LP_INLINE static bool any(VI m) {
@@ -150,6 +156,8 @@ class Arith {
     return any != 0;
 #endif
   }
+
+ private:
   // `op(k)` computes the operation with its operands scaled by k; k = 2^64 lifts a tiny result
   // into the normal range, where fp32 rounding is the unbounded-exponent rounding.
   template <typename Op>
@@ -171,6 +179,10 @@ class Arith {
     const VI magnitude = (VI)r & 0x7fffffff;
     const VI nan = magnitude > 0x7f800000;
     const VI tiny = flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : VI{};
+    if (deferred_) {
+      *deferred_ |= nan | tiny;
+      return VecT::of(r);
+    }
     if (any(nan | tiny))
       for (int i = 0; i < N; ++i) {
         if (nan[i]) r[i] = x86Nan(x[i], y[i], r[i]);
@@ -199,6 +211,7 @@ class Arith {
   }
 
   bool flush_, fma_;
+  VI* deferred_;
 };
 
 // What a blend reads, lane by lane: srcAlpha, dstAlpha and constAlpha hold each lane's pixel's
@@ -285,9 +298,9 @@ LP_INLINE Vec<V> lpBlend(const Arith<V>& A, BlendEquation eq, unsigned fs, unsig
 }
 
 template <typename V>
-LP_INLINE V run(const LlvmpipeFloatPlan& plan, const Inputs<V>& in) {
+LP_INLINE V run(const LlvmpipeFloatPlan& plan, const Inputs<V>& in, IntLanesOf<V>* deferred = nullptr) {
   const LlvmpipeFloatShape& p = plan.shape;
-  const Arith<V> A(plan.flushDenormals, plan.fma);
+  const Arith<V> A(plan.flushDenormals, plan.fma, deferred);
   const Vec<V> sf = factorVector(A, p.rs, p.as, in), df = factorVector(A, p.rd, p.ad, in);
   Vec<V> result = lpBlend(A, p.eqRgb, p.rs, p.rd, in.src, in.dst, sf, df, p.independent);
   if (p.eqRgb != p.eqAlpha && p.channels > 1 && p.hasAlpha)
@@ -308,11 +321,12 @@ LP_INLINE v4f runPixel(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, 
 struct Lanes8 {
   v8f source, destination, constant, sourceAlpha, destinationAlpha, constantAlpha;
 };
-LP_INLINE v8f runLanes(const LlvmpipeFloatPlan& plan, const Lanes8& l) {
+// `special`: as Arith's deferred (the caller blends the lanes again with it null where it is set).
+LP_INLINE v8f runLanes(const LlvmpipeFloatPlan& plan, const Lanes8& l, IntLanesOf<v8f>* special) {
   const Inputs<v8f> in{Vec<v8f>::of(l.source), Vec<v8f>::of(l.destination), Vec<v8f>::of(l.constant),
                        l.sourceAlpha, l.destinationAlpha, l.constantAlpha, v8i{0, 0, 0, -1, 0, 0, 0, -1},
                        plan.shape.hasAlpha};
-  return run(plan, in);
+  return run(plan, in, special);
 }
 
 v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
@@ -323,29 +337,23 @@ v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destina
 // (llvmpipeFloatTexelsFor); the same IEEE operations per lane as the four-lane path.
 #define LP_AVX2 [[gnu::target("avx2")]]
 
-// LlvmpipeFloatTexelsFn's loop, inlined into each compiled function.
+// LlvmpipeFloatTexelsFn's loop, inlined into each compiled function. Up to kChunk pixels are
+// blended with the rare lanes' rules deferred (Arith: one test for the chunk instead of one per
+// operation and group); in the rare chunk that has such a lane, every group is blended again
+// from the destinations as they were loaded, with the rules applied. The same bits either way.
 template <int Channels, bool Half>
 LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                           uint8_t* const* texels, int n, Rounding fp16) {
-  constexpr int P = 8 / Channels;
+  constexpr int P = 8 / Channels, kChunk = 64;
   Lanes8 lanes;
   const v4f c = load4(constant);
   v4f cs[P];
   for (v4f& x : cs) x = c;
   gatherLanes<Channels>(cs, lanes.constant, lanes.constantAlpha);
-  int i = 0;
-  for (; i + P <= n; i += P) {
-    v4f s[P], d[P];
-    for (int p = 0; p < P; ++p) {
-      s[p] = load4(*sources[i + p]);
-      d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
-    }
-    gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
-    gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
-    const v8f r = runLanes(plan, lanes);
-    // The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
-    // encodeHalfInline), then each pixel's channels stored whole: read lane by lane, the result
-    // waited on its own store (store forwarding) and the rounding was tested per channel.
+  // The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
+  // encodeHalfInline), then each pixel's channels stored whole: read lane by lane, the result
+  // waited on its own store (store forwarding) and the rounding was tested per channel.
+  auto store = [&](int i, v8f r) {
     if constexpr (Half) {
       alignas(16) uint16_t h[8];
 #if defined(OITREF_HAVE_F16C)
@@ -362,8 +370,32 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
       std::memcpy(f, &r, sizeof f);
       for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], f + p * Channels, 4 * Channels);
     }
+  };
+  auto gather = [&](int i, const v4f* d) {
+    v4f s[P];
+    for (int p = 0; p < P; ++p) s[p] = load4(*sources[i + p]);
+    gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
+    gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
+  };
+  const int whole = n - n % P;
+  for (int chunk = 0; chunk < whole; chunk += kChunk) {
+    const int end = chunk + kChunk < whole ? chunk + kChunk : whole;
+    v4f loaded[kChunk];
+    IntLanesOf<v8f> special{};
+    for (int i = chunk; i < end; i += P) {
+      v4f* d = loaded + (i - chunk);
+      for (int p = 0; p < P; ++p)
+        d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
+      gather(i, d);
+      store(i, runLanes(plan, lanes, &special));
+    }
+    if (Arith<v8f>::any(special))
+      for (int i = chunk; i < end; i += P) {
+        gather(i, loaded + (i - chunk));
+        store(i, runLanes(plan, lanes, nullptr));
+      }
   }
-  return i;
+  return whole;
 }
 template <int Channels, bool Half>
 LP_AVX2 int generalTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
