@@ -56,6 +56,8 @@ class FragmentStage {
   // pass (fullscreenSpan): the operations of fragment() and fullscreenPixel() for each, with the
   // blending batched per target. The pixels of a span are distinct, so running every fragment's
   // tests and shader before any blend changes nothing a fragment can see of its own pixel.
+  // A span's runs that the early depth test surely rejects are counted as failed without being
+  // interpolated (depth_bounds.h), as the per-fragment test would have failed each of them.
   void span(int y, int x0, int x1);
   void fullscreenSpan(int y, int x0, int x1);
 
