@@ -92,12 +92,34 @@ class Abuffer final : public Method {
       const size_t p = size_t(in.y) * w + in.x;
       const size_t n = count[p];
       if (n == 0) return false;
-      // Sort a copy: the stored lists stay in submission order for the result.
-      thread_local std::vector<StoredFragment> sorted;
-      sorted.assign(fragments.begin() + std::ptrdiff_t(start[p]), fragments.begin() + std::ptrdiff_t(start[p] + n));
-      std::stable_sort(sorted.begin(), sorted.end(), [](const StoredFragment& a, const StoredFragment& b) {
+      // Sort keys, then gather a sorted copy: the stored lists stay in submission order for the
+      // result. A stable sort by view depth, then window depth (compared with <, so −0 and +0
+      // tie): up to 64 fragments by insertion (a pixel's list often arrives nearly sorted), more
+      // by std::stable_sort; either moves 12-byte keys, not 32-byte fragments.
+      struct Key {
+        float viewDepth, windowDepth;
+        uint32_t index;
+      };
+      const auto before = [](const Key& a, const Key& b) {
         return a.viewDepth != b.viewDepth ? a.viewDepth < b.viewDepth : a.windowDepth < b.windowDepth;
-      });
+      };
+      thread_local std::vector<Key> keys;
+      thread_local std::vector<StoredFragment> sorted;
+      const StoredFragment* list = fragments.data() + start[p];
+      keys.resize(n);
+      for (size_t i = 0; i < n; ++i) keys[i] = {list[i].viewDepth, list[i].windowDepth, uint32_t(i)};
+      if (n <= 64) {
+        for (size_t i = 1; i < n; ++i) {
+          const Key k = keys[i];
+          size_t j = i;
+          for (; j > 0 && before(k, keys[j - 1]); --j) keys[j] = keys[j - 1];
+          keys[j] = k;
+        }
+      } else {
+        std::stable_sort(keys.begin(), keys.end(), before);
+      }
+      sorted.resize(n);
+      for (size_t i = 0; i < n; ++i) sorted[i] = list[keys[i].index];
       const auto composite = useDouble ? compositeBackToFront<double> : compositeBackToFront<float>;
       out[0] = composite(sorted.data(), n, c0[0]);
       out[1] = composite(sorted.data(), n, c0[1]);
