@@ -115,9 +115,10 @@ class FragmentStage {
   void prefetchDepthRow(int y, int x0, int x1) const;
 
   static constexpr int kBatch = FragmentBatch::kCapacity;
-  // The pixels span() asks depthRunRejects_ about at a time: a span within a tile is at most 64.
-  // A run that is rejected in part splits the batch around it, and each batch has a cost of its
-  // own: runs of 16 made dense's opaque pass slower than one run per span (81–106 → 63–66 ms).
+  // The pixels span() asks depthRunRejects_ about at a time: a whole span in the default 64-pixel
+  // tiles. Shorter runs reject more of a span whose depth crosses the stored one, but a rejected
+  // run splits the batch around it, and each batch has a cost of its own (dense's opaque frame:
+  // 81–106 ms with runs of 16, 63–66 with one run per span).
   static constexpr int kRejectRun = 64;
 
   Framebuffer& fb_;
