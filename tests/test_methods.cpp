@@ -12,6 +12,7 @@
 
 #include "method_fixture.h"
 #include "oitref/method.h"
+#include "support.h"
 
 using namespace oitref;
 using namespace oitref::test;
@@ -30,6 +31,38 @@ TEST_CASE("methods: the A-buffer composite equals OVER of its sorted fragments i
   forEachPixel([&](int x, int y, const std::vector<TransparentFragment>& f, glm::dvec3 c0) {
     requireClose(precise.finalFloat, x, y, overBackToFront(f, c0), 4 * kU32, "abuffer precision=double");
   });
+}
+
+TEST_CASE("methods: the A-buffer sorts deep lists whatever their submission order", "[methods]") {
+  // 60 full-screen layers at distinct depths, submitted front to back (the resolve's insertion
+  // sort finishes alone), back to front and shuffled (it gives up and std::stable_sort finishes
+  // from where it stopped): each frame must equal OVER of its pixel's fragments sorted here, in
+  // double, and the three frames must be the same bits.
+  test::BitStream rng(8);
+  std::vector<SceneObject> layers;
+  for (int i = 0; i < 60; ++i)
+    layers.push_back(quad({0, 0, 0.5f - 0.03f * float(i)}, 20.0f,
+                          {rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0.05f, 0.6f)}));
+  std::vector<std::vector<SceneObject>> orders{layers, {layers.rbegin(), layers.rend()}, layers};
+  for (size_t i = orders[2].size(); i > 1; --i) std::swap(orders[2][i - 1], orders[2][rng.next() % i]);
+  std::vector<uint8_t> first;
+  for (const auto& order : orders) {
+    Scene scene = layerScene(8, {0.2f, 0.3f, 0.4f});
+    scene.objects = order;
+    const FrameResult f = render(scene, "abuffer", {{"precision", "double"}});
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) {
+        const size_t p = size_t(y) * 8 + x;
+        const std::vector<TransparentFragment> list(f.fragments.begin() + std::ptrdiff_t(f.fragmentStart[p]),
+                                                    f.fragments.begin() + std::ptrdiff_t(f.fragmentStart[p + 1]));
+        REQUIRE(list.size() == 60);
+        requireClose(f.finalFloat, x, y, overBackToFront(list, glm::dvec3(glm::vec3(scene.background))), 4 * kU32,
+                     "abuffer");
+      }
+    const std::vector<uint8_t> bits(f.finalFloat.bytes().begin(), f.finalFloat.bytes().end());
+    if (first.empty()) first = bits;
+    CHECK(bits == first);
+  }
 }
 
 TEST_CASE("methods: unsorted OVER composites in submission order", "[methods]") {

@@ -94,8 +94,7 @@ class Abuffer final : public Method {
       if (n == 0) return false;
       // Sort keys, then gather a sorted copy: the stored lists stay in submission order for the
       // result. A stable sort by view depth, then window depth (compared with <, so −0 and +0
-      // tie): up to 64 fragments by insertion (a pixel's list often arrives nearly sorted), more
-      // by std::stable_sort; either moves 12-byte keys, not 32-byte fragments.
+      // tie), of 12-byte keys, not of the 32-byte fragments.
       struct Key {
         float viewDepth, windowDepth;
         uint32_t index;
@@ -108,15 +107,21 @@ class Abuffer final : public Method {
       const StoredFragment* list = fragments.data() + start[p];
       keys.resize(n);
       for (size_t i = 0; i < n; ++i) keys[i] = {list[i].viewDepth, list[i].windowDepth, uint32_t(i)};
-      if (n <= 64) {
-        for (size_t i = 1; i < n; ++i) {
-          const Key k = keys[i];
-          size_t j = i;
-          for (; j > 0 && before(k, keys[j - 1]); --j) keys[j] = keys[j - 1];
-          keys[j] = k;
+      // By insertion while the list proves nearly sorted (a pixel's fragments often arrive in
+      // depth order), else by std::stable_sort from where insertion left it: insertion is stable,
+      // so equal keys are still in list order and the result is the same stable order.
+      size_t moves = 0;
+      const size_t budget = 8 * n + 64;
+      for (size_t i = 1; i < n; ++i) {
+        const Key k = keys[i];
+        size_t j = i;
+        for (; j > 0 && before(k, keys[j - 1]); --j) keys[j] = keys[j - 1];
+        keys[j] = k;
+        moves += i - j;
+        if (moves > budget) {
+          std::stable_sort(keys.begin(), keys.end(), before);
+          break;
         }
-      } else {
-        std::stable_sort(keys.begin(), keys.end(), before);
       }
       sorted.resize(n);
       for (size_t i = 0; i < n; ++i) sorted[i] = list[keys[i].index];
