@@ -84,7 +84,7 @@ class Arith {
   static constexpr int N = kLanes<V>;
   // `deferred`: where not null, an operation does not fix its rare lanes (NaN, tiny) itself but
   // marks them there, and the caller runs the whole blend again without it when any is marked
-  // (runDeferred): one test per blend instead of one per operation, the same bits.
+  // (blendTexels): one test per chunk of pixels instead of one per operation, the same bits.
   Arith(bool flush, bool fma, VI* deferred = nullptr) : flush_(flush), fma_(fma), deferred_(deferred) {}
 
   LP_INLINE VecT add(const VecT& a, const VecT& b) const {
