@@ -12,14 +12,23 @@
 
 namespace oitref::methods {
 
+// ln 2 in two parts (the high one with trailing zero bits, so k·kLn2Hi is exact for the k of
+// detExp's range) and log2(e): the reductions of detExp, its batch and detLog.
+constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
+constexpr double kLog2E = 1.44269504088896338700;
+// r = x − k·ln2, in detExp's order of operations, on one value or on lanes.
+template <typename D>
+inline D detExpRemainder(D x, D k) {
+  return (x - k * kLn2Hi) - k * kLn2Lo;
+}
+
 // e^x: x = k·ln2 + r with |r| ≤ ln2/2, then a Taylor polynomial of r to degree 16.
 inline double detExp(double x) {
   if (std::isnan(x)) return x;
   if (x > 709.0) return std::numeric_limits<double>::infinity();
   if (x < -745.0) return 0.0;
-  constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
-  const double k = std::nearbyint(x * 1.44269504088896338700);
-  const double r = (x - k * kLn2Hi) - k * kLn2Lo;
+  const double k = std::nearbyint(x * kLog2E);
+  const double r = detExpRemainder(x, k);
   double p = 1.0;
   for (int n = 16; n >= 1; --n) p = 1.0 + p * r / n;  // Horner form of Σ r^n / n!
   return std::ldexp(p, int(k));
@@ -43,10 +52,8 @@ inline D detExpTaylor13(D r) {
 // detExp's reduction and the polynomial, for |x| ≤ 700: what each lane of detExpFloatBatch
 // computes before its rounding test (the tests check it against detExp).
 inline double detExpFast(double x) {
-  constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
-  const double k = std::nearbyint(x * 1.44269504088896338700);
-  const double r = (x - k * kLn2Hi) - k * kLn2Lo;
-  return std::ldexp(detExpTaylor13(r), int(k));
+  const double k = std::nearbyint(x * kLog2E);
+  return std::ldexp(detExpTaylor13(detExpRemainder(x, k)), int(k));
 }
 
 // float(detExp(x)) for n arguments, what MBOIT's and MT's weights take, without detExp's 16
@@ -65,7 +72,6 @@ inline void detExpFloatBatch(const double* x, float* out, int n) {
   typedef int64_t v4l __attribute__((vector_size(32)));
   typedef float v4f __attribute__((vector_size(16)));
   typedef int32_t v4i __attribute__((vector_size(16)));
-  constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
   constexpr double kRound = 6755399441055744.0;  // 1.5·2^52
   constexpr int kGroups = 4;
   for (int start = 0; start < n; start += 4 * kGroups) {
@@ -76,10 +82,10 @@ inline void detExpFloatBatch(const double* x, float* out, int n) {
     for (int g = 0; g < kGroups; ++g) {
       regular[g] = (v[g] == v[g]) & (v[g] <= 700.0) & (v[g] >= -700.0);
       const v4d inRange = regular[g] ? v[g] : v4d{};
-      const v4d shifted = inRange * 1.44269504088896338700 + kRound;
+      const v4d shifted = inRange * kLog2E + kRound;
       const v4d k = shifted - kRound;
       kBits[g] = (v4l)shifted - (v4l)(v4d{} + kRound);
-      r[g] = (inRange - k * kLn2Hi) - k * kLn2Lo;  // detExp's r
+      r[g] = detExpRemainder(inRange, k);
     }
     for (int g = 0; g < kGroups; ++g) q[g] = detExpTaylor13(r[g]);  // inlined: the groups' chains interleave
     float result[4 * kGroups];
@@ -115,7 +121,6 @@ inline D detLogSeries(D s, D e) {
   const D s2 = s * s;
   D series{};
   for (int n = 33; n >= 1; n -= 2) series = 1.0 / n + s2 * series;
-  constexpr double kLn2Hi = 0.693147180369123816490, kLn2Lo = 1.90821492927058770002e-10;
   return (2.0 * s * series + e * kLn2Lo) + e * kLn2Hi;
 }
 inline double detLog(double x) {
