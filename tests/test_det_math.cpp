@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "methods/det_math.h"
+#include "methods/power.h"
 #include "support.h"
 
 using namespace oitref;
@@ -29,6 +30,31 @@ TEST_CASE("det math: exp and log agree with libm to a few double ulps", "[detmat
   CHECK(methods::detExp(-1000.0) == 0.0);
   CHECK(methods::detLog(0.0) == -INFINITY);
   CHECK(std::isnan(methods::detLog(-1.0)));
+}
+
+// powInt<N> (the WBOIT weights' unrolled form) against the loop it restates, bit for bit: every
+// exponent the weights use and a few more, over random bit patterns (NaN, infinities, subnormals
+// and zeros included) and over [0, 2], where the weights' depths lie.
+template <unsigned N>
+static void checkPowIntUnrolled(test::BitStream& rng) {
+  for (int i = 0; i < 20000; ++i) {
+    uint32_t bits = rng.next();
+    float x;
+    std::memcpy(&x, &bits, 4);
+    if (i % 2) x = rng.uniform(0.0f, 2.0f);
+    const float loop = methods::powInt(x, N), unrolled = methods::powInt<N>(x);
+    uint32_t a, b;
+    std::memcpy(&a, &loop, 4);
+    std::memcpy(&b, &unrolled, 4);
+    INFO("x = " << x << ", n = " << N);
+    REQUIRE(a == b);
+  }
+}
+TEST_CASE("powInt: the compile-time exponent multiplies as the loop does", "[detmath]") {
+  test::BitStream rng(7);
+  checkPowIntUnrolled<0>(rng), checkPowIntUnrolled<1>(rng), checkPowIntUnrolled<2>(rng);
+  checkPowIntUnrolled<3>(rng), checkPowIntUnrolled<4>(rng), checkPowIntUnrolled<5>(rng);
+  checkPowIntUnrolled<6>(rng), checkPowIntUnrolled<7>(rng), checkPowIntUnrolled<9>(rng);
 }
 
 TEST_CASE("det math: sin and cos agree with libm to a few double ulps", "[detmath]") {

@@ -15,4 +15,12 @@ inline float powInt(float x, unsigned n) {
   return result;
 }
 
+// powInt(x, N) with N known at compile time: the same multiplications in the same order,
+// unrolled, so that a loop over fragments that calls it has no inner loop and runs in vector lanes.
+template <unsigned N>
+inline float powInt(float x, float result = 1.0f) {
+  if constexpr (N == 0) return result;
+  else return powInt<(N >> 1)>(x * x, (N & 1u) ? result * x : result);
+}
+
 }  // namespace oitref::methods

@@ -40,32 +40,37 @@ Weight parseWeight(const std::string& w) {
 template <Weight Kind>
 float weightAs(float alpha, float windowZ, float viewZ) {
   if constexpr (Kind == Weight::One) return 1.0f;
-  else if constexpr (Kind == Weight::Z3) return 1.0f / powInt(windowZ, 3);
-  else if constexpr (Kind == Weight::Z5) return 1.0f / powInt(windowZ, 5);
-  else if constexpr (Kind == Weight::AZ3) return alpha / powInt(windowZ, 3);
-  else if constexpr (Kind == Weight::AZ5) return alpha / powInt(windowZ, 5);
-  else if constexpr (Kind == Weight::MB7) return alpha * std::clamp(10.0f / (1e-5f + powInt(viewZ / 5.0f, 2) + powInt(viewZ / 200.0f, 6)), 1e-2f, 3e3f);
-  else if constexpr (Kind == Weight::MB8) return alpha * std::clamp(10.0f / (1e-5f + powInt(viewZ / 10.0f, 3) + powInt(viewZ / 200.0f, 6)), 1e-2f, 3e3f);
-  else if constexpr (Kind == Weight::MB9) return alpha * std::clamp(0.03f / (1e-5f + powInt(viewZ / 200.0f, 4)), 1e-2f, 3e3f);
-  else return alpha * std::max(1e-2f, 3e3f * powInt(1.0f - windowZ, 3));  // MB10
+  else if constexpr (Kind == Weight::Z3) return 1.0f / powInt<3>(windowZ);
+  else if constexpr (Kind == Weight::Z5) return 1.0f / powInt<5>(windowZ);
+  else if constexpr (Kind == Weight::AZ3) return alpha / powInt<3>(windowZ);
+  else if constexpr (Kind == Weight::AZ5) return alpha / powInt<5>(windowZ);
+  else if constexpr (Kind == Weight::MB7) return alpha * std::clamp(10.0f / (1e-5f + powInt<2>(viewZ / 5.0f) + powInt<6>(viewZ / 200.0f)), 1e-2f, 3e3f);
+  else if constexpr (Kind == Weight::MB8) return alpha * std::clamp(10.0f / (1e-5f + powInt<3>(viewZ / 10.0f) + powInt<6>(viewZ / 200.0f)), 1e-2f, 3e3f);
+  else if constexpr (Kind == Weight::MB9) return alpha * std::clamp(0.03f / (1e-5f + powInt<4>(viewZ / 200.0f)), 1e-2f, 3e3f);
+  else return alpha * std::max(1e-2f, 3e3f * powInt<3>(1.0f - windowZ));  // MB10
 }
 
-// f(weightAs<K>) for the weight chosen at run time: decided once per call, so that a batch's loop
-// runs the one expression (not a switch per fragment).
+// A stateless callable for weightAs<K>: its own type per weight, so that f below is compiled once
+// per weight with the expression inlined (a function pointer would be one type for all).
+template <Weight K>
+constexpr auto kWeightOf = [](float alpha, float windowZ, float viewZ) { return weightAs<K>(alpha, windowZ, viewZ); };
+
+// f(kWeightOf<K>) for the weight chosen at run time: decided once per call, so that a batch's loop
+// runs the one expression (not a switch or an indirect call per fragment).
 template <typename F>
 auto withWeight(Weight kind, F&& f) {
   switch (kind) {
-    case Weight::One: return f(weightAs<Weight::One>);
-    case Weight::Z3: return f(weightAs<Weight::Z3>);
-    case Weight::Z5: return f(weightAs<Weight::Z5>);
-    case Weight::AZ3: return f(weightAs<Weight::AZ3>);
-    case Weight::AZ5: return f(weightAs<Weight::AZ5>);
-    case Weight::MB7: return f(weightAs<Weight::MB7>);
-    case Weight::MB8: return f(weightAs<Weight::MB8>);
-    case Weight::MB9: return f(weightAs<Weight::MB9>);
+    case Weight::One: return f(kWeightOf<Weight::One>);
+    case Weight::Z3: return f(kWeightOf<Weight::Z3>);
+    case Weight::Z5: return f(kWeightOf<Weight::Z5>);
+    case Weight::AZ3: return f(kWeightOf<Weight::AZ3>);
+    case Weight::AZ5: return f(kWeightOf<Weight::AZ5>);
+    case Weight::MB7: return f(kWeightOf<Weight::MB7>);
+    case Weight::MB8: return f(kWeightOf<Weight::MB8>);
+    case Weight::MB9: return f(kWeightOf<Weight::MB9>);
     case Weight::MB10: break;
   }
-  return f(weightAs<Weight::MB10>);
+  return f(kWeightOf<Weight::MB10>);
 }
 
 float weight(Weight kind, float alpha, float windowZ, float viewZ) {
@@ -109,13 +114,15 @@ class Wboit final : public Method {
     const bool adaptive = adaptive_;
     accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4* c, float* w) {
       const int count = in.count;
-      float z[kShaderBatch];
-      for (int i = 0; i < count; ++i) z[i] = in.depth[i];
+      // The inputs as local rows, so that the weight's loop runs in vector lanes.
+      float z[kShaderBatch], alpha[kShaderBatch], view[kShaderBatch], out[kShaderBatch];
+      for (int i = 0; i < count; ++i) z[i] = in.depth[i], alpha[i] = c[i].a, view[i] = in.viewDepth[i];
       if (adaptive)
         for (int i = 0; i < count; ++i) z[i] = z[i] / float(depth.depth(in.x[i], in.y));  // z / z_s: the opaque depth behind it
       withWeight(kind, [&](auto weightOf) {
-        for (int i = 0; i < count; ++i) w[i] = weightOf(c[i].a, z[i], in.viewDepth[i]);
+        for (int i = 0; i < count; ++i) out[i] = weightOf(alpha[i], z[i], view[i]);
       });
+      std::copy_n(out, count, w);
     });
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
     compositeWeighted(run, t, accum, reveal);
