@@ -12,6 +12,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "methods/depth_order.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
 
@@ -20,17 +21,23 @@ namespace {
 
 using StoredFragment = TransparentFragment;
 
+// OVER back to front of the list's fragments in `order` (front to back), onto both backgrounds.
 template <typename Real>
-glm::vec3 compositeBackToFront(const StoredFragment* f, size_t n, glm::vec3 background) {
-  Real c[3] = {Real(background.r), Real(background.g), Real(background.b)};
+void compositeBackToFront(const StoredFragment* list, const uint32_t* order, size_t n, const glm::vec3 background[2],
+                          glm::vec3 result[2]) {
+  Real c[2][3];
+  for (int t = 0; t < 2; ++t)
+    for (int k = 0; k < 3; ++k) c[t][k] = Real(background[t][k]);
   for (size_t i = n; i-- > 0;) {
-    const Real a = Real(f[i].color.a);
-    for (int k = 0; k < 3; ++k) {
-      const Real front = Real(f[i].color[k]) * a, behind = c[k] * (Real(1) - a);
-      c[k] = front + behind;
-    }
+    const glm::vec4& color = list[order[i]].color;
+    const Real a = Real(color.a);
+    for (int t = 0; t < 2; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const Real front = Real(color[k]) * a, behind = c[t][k] * (Real(1) - a);
+        c[t][k] = front + behind;
+      }
   }
-  return {float(c[0]), float(c[1]), float(c[2])};
+  for (int t = 0; t < 2; ++t) result[t] = {float(c[t][0]), float(c[t][1]), float(c[t][2])};
 }
 
 class Abuffer final : public Method {
@@ -58,8 +65,9 @@ class Abuffer final : public Method {
     const PipelineState st = transparentState(context.profile, BlendState{});
 
     std::vector<uint32_t> count(pixels, 0);
-    run.transparentPass("count", depthOnly, st, [&](const FragmentInput& in, const glm::vec4&, FragmentOutput&) {
-      ++count[size_t(in.y) * w + in.x];
+    run.transparentPositionPass("count", depthOnly, st, [&](const FragmentBatch& in, FragmentBatchOutput&) {
+      uint32_t* row = count.data() + size_t(in.y) * w;
+      for (int i = 0; i < in.count; ++i) ++row[in.x[i]];
     });
     const uint64_t total = std::accumulate(count.begin(), count.end(), uint64_t(0));
     const size_t deepest = size_t(std::max_element(count.begin(), count.end()) - count.begin());
@@ -82,9 +90,16 @@ class Abuffer final : public Method {
     for (size_t p = 0; p < pixels; ++p) start[p + 1] = start[p] + count[p];
     std::vector<StoredFragment> fragments(total);
     std::vector<uint32_t> filled(pixels, 0);
-    run.transparentPass("store", depthOnly, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput&) {
-      const size_t p = size_t(in.y) * w + in.x;
-      fragments[start[p] + filled[p]++] = {in.depth, in.viewDepth, c, in.drawId, in.primitiveId};
+    run.transparentBatchPass("store", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
+      const size_t row = size_t(in.y) * w;
+      for (int i = 0; i < in.count; ++i) {
+        const size_t p = row + in.x[i];
+        const uint64_t slot = start[p] + filled[p]++;
+        fragments[slot] = {in.depth[i], in.viewDepth[i], c[i], in.drawId, in.primitiveId};
+        // The line of the pixel's fragment after next, fetched now for writing: the pixel's next
+        // fragment comes with a later primitive, and its write would otherwise wait on memory.
+        if (slot + 2 < total) __builtin_prefetch(&fragments[slot + 2], 1);
+      }
     });
 
     const bool useDouble = useDouble_;
@@ -92,42 +107,13 @@ class Abuffer final : public Method {
       const size_t p = size_t(in.y) * w + in.x;
       const size_t n = count[p];
       if (n == 0) return false;
-      // Sort keys, then gather a sorted copy: the stored lists stay in submission order for the
-      // result. A stable sort by view depth, then window depth (compared with <, so −0 and +0
-      // tie), of 12-byte keys, not of the 32-byte fragments.
-      struct Key {
-        float viewDepth, windowDepth;
-        uint32_t index;
-      };
-      const auto before = [](const Key& a, const Key& b) {
-        return a.viewDepth != b.viewDepth ? a.viewDepth < b.viewDepth : a.windowDepth < b.windowDepth;
-      };
-      thread_local std::vector<Key> keys;
-      thread_local std::vector<StoredFragment> sorted;
+      // The stored lists stay in submission order for the result; the resolve sorts positions.
+      thread_local DepthOrder depthOrder;
+      thread_local std::vector<uint32_t> order;
       const StoredFragment* list = fragments.data() + start[p];
-      keys.resize(n);
-      for (size_t i = 0; i < n; ++i) keys[i] = {list[i].viewDepth, list[i].windowDepth, uint32_t(i)};
-      // By insertion while the list proves nearly sorted (a pixel's fragments often arrive in
-      // depth order), else by std::stable_sort from where insertion left it: insertion is stable,
-      // so equal keys are still in list order and the result is the same stable order.
-      size_t moves = 0;
-      const size_t budget = 8 * n + 64;
-      for (size_t i = 1; i < n; ++i) {
-        const Key k = keys[i];
-        size_t j = i;
-        for (; j > 0 && before(k, keys[j - 1]); --j) keys[j] = keys[j - 1];
-        keys[j] = k;
-        moves += i - j;
-        if (moves > budget) {
-          std::stable_sort(keys.begin(), keys.end(), before);
-          break;
-        }
-      }
-      sorted.resize(n);
-      for (size_t i = 0; i < n; ++i) sorted[i] = list[keys[i].index];
-      const auto composite = useDouble ? compositeBackToFront<double> : compositeBackToFront<float>;
-      out[0] = composite(sorted.data(), n, c0[0]);
-      out[1] = composite(sorted.data(), n, c0[1]);
+      order.resize(n);
+      depthOrder.sort(list, uint32_t(n), order.data());
+      (useDouble ? compositeBackToFront<double> : compositeBackToFront<float>)(list, order.data(), n, c0, out);
       return true;
     });
 

@@ -127,7 +127,7 @@ void PassRunner::drawTransparent(const std::string& name, Framebuffer& fb, const
     if (!part.transparent) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
     FragmentProgram program = programFor(object);
-    program.attributesRead = shadeSurfaceReads(object);  // the method's shader reads them through shadeSurface
+    if (program.attributesRead < 0) program.attributesRead = shadeSurfaceReads(object);  // through shadeSurface
     draws.push_back({&clipGeometry(part), std::move(program), uint32_t(part.objectIndex)});
   }
   report.stats = context_.renderer.drawSequence(fb, state, draws);

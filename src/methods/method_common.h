@@ -111,6 +111,24 @@ class PassRunner {
       return program;
     });
   }
+  // A pass whose shader reads nothing of the surface — only each fragment's position, depths and
+  // ids: shader(const FragmentBatch& in, FragmentBatchOutput& out). No attribute is interpolated.
+  template <typename BatchShader>
+  void transparentPositionPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
+                               const BatchShader& shader) {
+    drawTransparent(name, fb, state, [&](const SceneObject&) {
+      FragmentProgram program{[&shader](const FragmentInput& in, FragmentOutput& out) {
+                                FragmentBatchOutput batchOut;
+                                batchOut.reset(1);
+                                shader(FragmentBatch::of(in), batchOut);
+                                batchOut.load(0, out);
+                              },
+                              false, false, false, {}};
+      program.batch = [&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); };
+      program.attributesRead = 0;
+      return program;
+    });
+  }
   // The part's vertices through the vertex stage (toClipGeometry), computed once per frame: every
   // pass of a frame draws the same clip-space geometry (peeling draws it once per layer).
   const Geometry& clipGeometry(const ScenePart& part);
@@ -146,7 +164,8 @@ class PassRunner {
  private:
   const FrameContext& context_;
   FrameResult& result_;
-  // transparentPass's body: programFor(object) is the fragment program of the object's draw.
+  // transparentPass's body: programFor(object) is the fragment program of the object's draw; one
+  // that does not say how many attributes it reads reads those of shadeSurface.
   void drawTransparent(const std::string& name, Framebuffer& fb, const PipelineState& state,
                        const std::function<FragmentProgram(const SceneObject&)>& programFor);
   PipelineState compositeState() const;  // compositeBlend() on both presented targets

@@ -1,0 +1,85 @@
+// The A-buffer's front-to-back order (methods/depth_order.h) against std::stable_sort over the
+// same keys, on lists that take each of its ways: short, nearly sorted (each fragment up to a few
+// places from where it belongs: the lanes), displaced further (the scalar step), reversed and
+// shuffled (the budget runs out: std::stable_sort finishes), with ties in view depth, in both
+// depths, and between −0 and +0; NaN keys take the scalar way and must agree with it.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include "methods/depth_order.h"
+#include "support.h"
+
+using namespace oitref;
+
+namespace {
+
+std::vector<uint32_t> stableOrder(const std::vector<TransparentFragment>& list) {
+  std::vector<uint32_t> order(list.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    const TransparentFragment &x = list[a], &y = list[b];
+    return x.viewDepth != y.viewDepth ? x.viewDepth < y.viewDepth : x.windowDepth < y.windowDepth;
+  });
+  return order;
+}
+
+// n fragments whose keys come from `levels` distinct values (ties when small), in depth order,
+// then each moved up to `displacement` places (or shuffled when negative, reversed when 0).
+std::vector<TransparentFragment> makeList(test::BitStream& rng, uint32_t n, uint32_t levels, int displacement) {
+  std::vector<TransparentFragment> list(n);
+  for (TransparentFragment& f : list) {
+    const uint32_t v = rng.next() % levels;
+    f.viewDepth = v == 0 ? (rng.next() % 2 ? -0.0f : 0.0f) : float(v);
+    f.windowDepth = float(rng.next() % 3) * 0.25f;
+  }
+  std::vector<uint32_t> sorted = stableOrder(list);
+  std::vector<TransparentFragment> out(n);
+  for (uint32_t i = 0; i < n; ++i) out[i] = list[sorted[i]];
+  if (displacement == 0) std::reverse(out.begin(), out.end());
+  else if (displacement < 0)
+    for (uint32_t i = n; i > 1; --i) std::swap(out[i - 1], out[rng.next() % i]);
+  else
+    for (uint32_t i = 0; i + 1 < n; ++i) {
+      const uint32_t j = std::min<uint32_t>(n - 1, i + rng.next() % uint32_t(displacement + 1));
+      std::swap(out[i], out[j]);
+    }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("depth order: the stable order by view depth, window depth and position, every way", "[methods]") {
+  test::BitStream rng(11);
+  methods::DepthOrder order;
+  int lists = 0;
+  for (uint32_t n : {0u, 1u, 2u, 7u, 8u, 9u, 17u, 64u, 300u})
+    for (uint32_t levels : {1u, 3u, 40u, 100000u})
+      for (int displacement : {1, 3, 7, 8, 12, 40, 0, -1}) {
+        const std::vector<TransparentFragment> list = makeList(rng, n, levels, displacement);
+        const std::vector<uint32_t> expected = stableOrder(list);
+        std::vector<uint32_t> got(n), scalar(n);
+        order.sort(list.data(), n, got.data());
+        order.sortScalar(list.data(), n, scalar.data());
+        INFO("n " << n << ", levels " << levels << ", displacement " << displacement);
+        REQUIRE(got == expected);
+        REQUIRE(scalar == expected);
+        ++lists;
+      }
+  CHECK(lists == 9 * 4 * 8);
+}
+
+TEST_CASE("depth order: keys with NaN take the scalar way", "[methods]") {
+  test::BitStream rng(12);
+  methods::DepthOrder order;
+  std::vector<TransparentFragment> list = makeList(rng, 50, 20, 3);
+  list[17].viewDepth = std::nanf("");
+  list[31].windowDepth = std::nanf("");
+  std::vector<uint32_t> got(50), scalar(50);
+  order.sort(list.data(), 50, got.data());
+  order.sortScalar(list.data(), 50, scalar.data());
+  CHECK(got == scalar);
+}
