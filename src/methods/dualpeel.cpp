@@ -55,8 +55,8 @@ class Dualpeel final : public Method {
     Framebuffer init;
     init.color[0] = depth[0];
     init.depth = &t.depth("depth");
-    run.transparentPass("init", init, maxState, [](const FragmentInput& in, const glm::vec4&, FragmentOutput& out) {
-      out.write(0, glm::vec4(-in.depth, in.depth, 0.0f, 0.0f));
+    run.transparentPositionPass("init", init, maxState, [](const FragmentBatch& in, FragmentBatchOutput& out) {
+      for (int i = 0; i < in.count; ++i) out.write(i, 0, glm::vec4(-in.depth[i], in.depth[i], 0.0f, 0.0f));
     });
 
     Framebuffer onBackground = t.present(false);
