@@ -237,4 +237,19 @@ FragmentProgram programOf(Shader shader, bool mayDiscard = false, bool writesDep
   return program;
 }
 
+// A program from a batch shader, shader(const FragmentBatch&, FragmentBatchOutput&): the
+// per-fragment shader runs it on a batch of one fragment, so that it stays the batch's oracle.
+template <typename BatchShader>
+FragmentProgram programOfBatch(BatchShader shader, bool mayDiscard = false) {
+  FragmentProgram program{[shader](const FragmentInput& in, FragmentOutput& out) {
+                            FragmentBatchOutput batchOut;
+                            batchOut.reset(1);
+                            shader(FragmentBatch::of(in), batchOut);
+                            batchOut.load(0, out);
+                          },
+                          mayDiscard, false, false, {}};
+  program.batch = std::move(shader);
+  return program;
+}
+
 }  // namespace oitref

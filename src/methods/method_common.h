@@ -95,20 +95,13 @@ class PassRunner {
   void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                             const BatchShader& shader, bool mayDiscard = false) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
-      FragmentProgram program{[&object, &shader](const FragmentInput& in, FragmentOutput& out) {
-                                const glm::vec4 color = shadeSurface(object, in.attributes, in.attributeStride);
-                                FragmentBatchOutput batchOut;
-                                batchOut.reset(1);
-                                shader(FragmentBatch::of(in), &color, batchOut);
-                                batchOut.load(0, out);
-                              },
-                              mayDiscard, false, false, {}};
-      program.batch = [&object, &shader](const FragmentBatch& in, FragmentBatchOutput& out) {
-        glm::vec4 colors[kShaderBatch];
-        for (int i = 0; i < in.count; ++i) colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride);
-        shader(in, colors, out);
-      };
-      return program;
+      return programOfBatch(
+          [&object, &shader](const FragmentBatch& in, FragmentBatchOutput& out) {
+            glm::vec4 colors[kShaderBatch];
+            for (int i = 0; i < in.count; ++i) colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride);
+            shader(in, colors, out);
+          },
+          mayDiscard);
     });
   }
   // A pass whose shader reads nothing of the surface — only each fragment's position, depths and
@@ -117,14 +110,7 @@ class PassRunner {
   void transparentPositionPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                                const BatchShader& shader) {
     drawTransparent(name, fb, state, [&](const SceneObject&) {
-      FragmentProgram program{[&shader](const FragmentInput& in, FragmentOutput& out) {
-                                FragmentBatchOutput batchOut;
-                                batchOut.reset(1);
-                                shader(FragmentBatch::of(in), batchOut);
-                                batchOut.load(0, out);
-                              },
-                              false, false, false, {}};
-      program.batch = [&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); };
+      FragmentProgram program = programOfBatch([&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); });
       program.attributesRead = 0;
       return program;
     });
