@@ -9,8 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "method_fixture.h"
+#include "methods/method_common.h"
 #include "oitref/method.h"
 #include "support.h"
 
@@ -391,4 +393,44 @@ TEST_CASE("methods: options are checked, with the nearest name for typos", "[met
   // The budget stops the A-buffer with the deepest pixel named, before storing anything.
   CHECK_THROWS_WITH(render(reference().scene, "abuffer", {{"max_fragments", "100"}}),
                     Catch::Contains("exceed max_fragments=100") && Catch::Contains("the deepest pixel"));
+}
+
+TEST_CASE("methods: the weighted resolve of a row is weightedResolve's, bit for bit", "[methods]") {
+  // weightedResolveRow (two fragments in eight lanes) against weightedResolve one at a time, and
+  // that against the division in double (a float quotient is the double one rounded: 53 ≥ 2·24 + 2
+  // bits), on random bit patterns (NaN, infinities, subnormals), values about the clamp's ends
+  // and ordinary sums; rows of odd and even lengths.
+  test::BitStream rng(21);
+  auto randomFloat = [&](int kind) {
+    uint32_t bits = rng.next();
+    float f;
+    std::memcpy(&f, &bits, 4);
+    if (kind == 1) f = rng.uniform(0.5e-4f, 2e-4f);
+    if (kind == 2) f = rng.uniform(4e4f, 6e4f);
+    if (kind == 3) f = rng.uniform(0.0f, 30.0f);
+    return f;
+  };
+  auto bitsOf = [](float f) {
+    uint32_t b;
+    std::memcpy(&b, &f, 4);
+    return b;
+  };
+  for (int row = 0; row < 2000; ++row) {
+    const int n = 1 + int(rng.next() % 64);
+    glm::vec4 accum[64], out[64];
+    float reveal[64];
+    for (int i = 0; i < n; ++i) {
+      const int kind = int(rng.next() % 4);
+      accum[i] = {randomFloat(kind), randomFloat(kind), randomFloat(kind), randomFloat(kind)};
+      reveal[i] = randomFloat(int(rng.next() % 4));
+    }
+    methods::weightedResolveRow(accum, reveal, n, out);
+    for (int i = 0; i < n; ++i) {
+      const glm::vec4 one = methods::weightedResolve(accum[i], reveal[i]);
+      for (int c = 0; c < 4; ++c) REQUIRE(bitsOf(out[i][c]) == bitsOf(one[c]));
+      const double d = std::clamp(double(accum[i].a), double(1e-4f), double(5e4f));
+      for (int c = 0; c < 3; ++c)
+        if (std::isfinite(accum[i][c]) && std::isfinite(accum[i].a)) REQUIRE(one[c] == float(double(accum[i][c]) / d));
+    }
+  }
 }

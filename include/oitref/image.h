@@ -53,6 +53,24 @@ class Image {
     }
     return decoder_(format_, t);
   }
+  // fetch(xs[i], y) for i < n, into out: the layout decided once for the row, not per texel.
+  void fetchRow(int y, const int* xs, int n, glm::vec4* out) const {
+    const uint8_t* row = texel(0, y);
+    auto each = [&](auto decode) {
+      for (int i = 0; i < n; ++i) out[i] = decode(row + size_t(xs[i]) * texelBytes_);
+    };
+    const float* u = unorm8_;
+    switch (inlineLayout_) {
+      case InlineLayout::Float32x4: return each([](const uint8_t* t) { glm::vec4 v; std::memcpy(&v, t, 16); return v; });
+      case InlineLayout::Float32x2:
+        return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 8); return v; });
+      case InlineLayout::Float32x1:
+        return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 4); return v; });
+      case InlineLayout::Unorm8x4: return each([u](const uint8_t* t) { return glm::vec4(u[t[0]], u[t[1]], u[t[2]], u[t[3]]); });
+      default:
+        for (int i = 0; i < n; ++i) out[i] = fetch(xs[i], y);
+    }
+  }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
   void store(int x, int y, const glm::vec4& value, const Profile& profile);
   // glClearBuffer: every texel gets the converted clear value.

@@ -1,6 +1,7 @@
 #include "methods/method_common.h"
 
 #include <chrono>
+#include <cstring>
 #include <utility>
 #include <stdexcept>
 
@@ -180,9 +181,13 @@ PipelineState weightedAccumulationState(const Profile& profile) {
 }
 
 void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal) {
-  run.blendOverBackground(targets, [&](const FragmentInput& in, glm::vec4& s) {
-    s = weightedResolve(accum.fetch(in.x, in.y), reveal.fetch(in.x, in.y).r);
-    return true;
+  run.blendOverBackgroundBatch(targets, [&](const FragmentBatch& in, glm::vec4* s) {
+    glm::vec4 a[kShaderBatch];
+    float t[kShaderBatch];
+    accum.fetchRow(in.y, in.x, in.count, a);
+    reveal.fetchRow(in.y, in.x, in.count, s);  // s as scratch: the revealage's texels
+    for (int i = 0; i < in.count; ++i) t[i] = s[i].r;
+    weightedResolveRow(a, t, in.count, s);
   });
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <memory>
@@ -132,6 +133,18 @@ class PassRunner {
       o.write(1, s);
     });
   }
+  // The same with a source over a batch: source(const FragmentBatch& in, glm::vec4* colourAndT)
+  // sets every fragment's (colour, T).
+  template <typename BatchSource>
+  void blendOverBackgroundBatch(FrameTargets& targets, const BatchSource& source) {
+    Framebuffer out = targets.present(false);
+    fullscreenProgram("composite", out, compositeState(),
+                      programOfBatch([&source](const FragmentBatch& in, FragmentBatchOutput& o) {
+                        glm::vec4 s[kShaderBatch];
+                        source(in, s);
+                        for (int i = 0; i < in.count; ++i) o.write(i, 0, s[i]), o.write(i, 1, s[i]);
+                      }));
+  }
   // The composite of the methods that blend in the shader (A-buffer, hybrid, MLAB, DFAOIT): a
   // full-screen pass named `name` whose `resolve` gets the pixel's background in each presented
   // target — [0] the RGBA8 "opaque", [1] the RGBA32F analysis copy — and returns the composite
@@ -168,6 +181,24 @@ inline std::string singleChannelFormat(const std::string& rgbaFormat) { return "
 inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
   return {glm::vec3(accum) / std::clamp(accum.a, 1e-4f, 5e4f), reveal};
 }
+// weightedResolve(accum[i], reveal[i]) for i < n, two fragments at a time in eight vector lanes
+// (the same comparisons and divisions lane for lane; a test holds it to weightedResolve).
+inline void weightedResolveRow(const glm::vec4* accum, const float* reveal, int n, glm::vec4* out) {
+  typedef float f8 __attribute__((vector_size(32)));
+  const f8 lo = f8{} + 1e-4f, hi = f8{} + 5e4f;
+  int i = 0;
+  for (; i + 2 <= n; i += 2) {
+    f8 a;
+    std::memcpy(&a, accum + i, sizeof a);
+    const f8 alpha = __builtin_shuffle(a, (decltype(a < a)){3, 3, 3, 3, 7, 7, 7, 7});
+    const f8 divisor = alpha < lo ? lo : hi < alpha ? hi : alpha;  // std::clamp's comparisons
+    f8 s = a / divisor;
+    s[3] = reveal[i], s[7] = reveal[i + 1];
+    std::memcpy(out + i, &s, sizeof s);
+  }
+  for (; i < n; ++i) out[i] = weightedResolve(accum[i], reveal[i]);
+}
+
 
 // The accumulation pass of McGuire–Bavoil eq. 6 (listing 3), which WBOIT, MBOIT and MT share:
 // accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,
