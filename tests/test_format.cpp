@@ -154,7 +154,8 @@ TEST_CASE("Image::fetch gives decodeTexel's bits for every format, fp32 payloads
   // denormal and infinities must come back unchanged.
   const uint32_t specials[] = {0x7f800001u, 0xff812345u, 0x80000000u, 0x00000001u, 0x7f800000u, 0xff800000u,
                                0x3f800000u, 0xc1234567u};
-  for (const char* name : {"r32f", "rg32f", "rgba32f", "rgba16f", "r16f", "rgba8", "r8", "rg8", "rgba16"}) {
+  for (const char* name : {"r32f", "rg32f", "rgba32f", "rgba16f", "rg16f", "r16f", "rgba8", "r8", "rg8", "rgba16",
+                           "rgb10a2", "r11g11b10f"}) {
     const Format f = parseFormat(name);
     Image image(f, 3, 2);
     for (size_t i = 0; i < image.sizeBytes(); ++i) {
@@ -168,5 +169,16 @@ TEST_CASE("Image::fetch gives decodeTexel's bits for every format, fp32 payloads
         INFO(name << " texel (" << x << ", " << y << ")");
         CHECK(std::memcmp(&got, &want, sizeof got) == 0);
       }
+    // fetchRow (the row decoders) over texels in any order, against decodeTexel too.
+    const int xs[5] = {2, 0, 1, 1, 2};
+    for (int y = 0; y < 2; ++y) {
+      glm::vec4 row[5];
+      image.fetchRow(y, xs, 5, row);
+      for (int i = 0; i < 5; ++i) {
+        const glm::vec4 want = decodeTexel(f, image.texel(xs[i], y));
+        INFO(name << " fetchRow texel (" << xs[i] << ", " << y << ")");
+        CHECK(std::memcmp(&row[i], &want, sizeof want) == 0);
+      }
+    }
   }
 }

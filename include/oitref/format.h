@@ -65,6 +65,11 @@ glm::vec4 decodeTexel(const Format& format, const uint8_t* texel);
 // Same bits either way.
 using TexelDecoder = glm::vec4 (*)(const Format& format, const uint8_t* texel);
 TexelDecoder texelDecoder(const Format& format);
+// The texels at row + xs[i]·texelBytes for i < n decoded into out, as texelDecoder's function
+// decodes each: one call per row, the decoding inlined into its loop.
+using TexelRowDecoder = void (*)(const Format& format, const uint8_t* row, size_t texelBytes, const int* xs, int n,
+                                 glm::vec4* out);
+TexelRowDecoder texelRowDecoder(const Format& format);
 // Copies channel c of `from` into `to` when bit c of mask is set (write masks on packed formats).
 void mergeTexelChannels(const Format& format, const uint8_t* from, uint8_t* to, unsigned mask);
 // The texel's bits as text: per channel in hex separated by spaces ("3c00 3800 0000 3c00"), one

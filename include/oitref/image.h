@@ -67,8 +67,7 @@ class Image {
       case InlineLayout::Float32x1:
         return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 4); return v; });
       case InlineLayout::Unorm8x4: return each([u](const uint8_t* t) { return glm::vec4(u[t[0]], u[t[1]], u[t[2]], u[t[3]]); });
-      default:
-        for (int i = 0; i < n; ++i) out[i] = fetch(xs[i], y);
+      default: rowDecoder_(format_, row, texelBytes_, xs, n, out);
     }
   }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
@@ -83,6 +82,7 @@ class Image {
   int width_ = 0, height_ = 0;
   size_t texelBytes_ = 0;
   TexelDecoder decoder_ = decodeTexel;
+  TexelRowDecoder rowDecoder_ = nullptr;
   enum class InlineLayout : uint8_t { None, Float32x4, Float32x2, Float32x1, Unorm8x4, Unorm8x2, Unorm8x1 };
   InlineLayout inlineLayout_ = InlineLayout::None;  // how fetch reads this format
   const float* unorm8_ = nullptr;                   // k/255 for each 8-bit code (the UNORM8 layouts)

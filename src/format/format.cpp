@@ -200,12 +200,27 @@ glm::vec4 decodeFixedLayout(const Format&, const uint8_t* texel) {
   return decodeChannels<E, Bytes>(Channels, texel);
 }
 
+template <ChannelEncoding E, int Bytes, int Channels>
+void decodeFixedLayoutRow(const Format&, const uint8_t* row, size_t texelBytes, const int* xs, int n, glm::vec4* out) {
+  for (int i = 0; i < n; ++i) out[i] = decodeChannels<E, Bytes>(Channels, row + size_t(xs[i]) * texelBytes);
+}
+void decodeRow(const Format& f, const uint8_t* row, size_t texelBytes, const int* xs, int n, glm::vec4* out) {
+  for (int i = 0; i < n; ++i) out[i] = decodeTexel(f, row + size_t(xs[i]) * texelBytes);
+}
+
 template <ChannelEncoding E, int Bytes>
 TexelDecoder decoderFor(int channels) {
   return channels == 1 ? decodeFixedLayout<E, Bytes, 1>
          : channels == 2 ? decodeFixedLayout<E, Bytes, 2>
          : channels == 4 ? decodeFixedLayout<E, Bytes, 4>
                          : decodeTexel;
+}
+template <ChannelEncoding E, int Bytes>
+TexelRowDecoder rowDecoderFor(int channels) {
+  return channels == 1 ? decodeFixedLayoutRow<E, Bytes, 1>
+         : channels == 2 ? decodeFixedLayoutRow<E, Bytes, 2>
+         : channels == 4 ? decodeFixedLayoutRow<E, Bytes, 4>
+                         : decodeRow;
 }
 
 }  // namespace
@@ -220,6 +235,19 @@ TexelDecoder texelDecoder(const Format& f) {
     case ChannelEncoding::Half: return decoderFor<ChannelEncoding::Half, 2>(f.channels);
     case ChannelEncoding::Float32: return decoderFor<ChannelEncoding::Float32, 4>(f.channels);
     default: return decodeTexel;
+  }
+}
+
+TexelRowDecoder texelRowDecoder(const Format& f) {
+  if (f.isPacked()) return decodeRow;
+  switch (f.encoding()) {
+    case ChannelEncoding::Unorm:
+      return f.unormBits(0) == 8 ? rowDecoderFor<ChannelEncoding::Unorm, 1>(f.channels)
+             : f.unormBits(0) == 16 ? rowDecoderFor<ChannelEncoding::Unorm, 2>(f.channels)
+                                    : decodeRow;
+    case ChannelEncoding::Half: return rowDecoderFor<ChannelEncoding::Half, 2>(f.channels);
+    case ChannelEncoding::Float32: return rowDecoderFor<ChannelEncoding::Float32, 4>(f.channels);
+    default: return decodeRow;
   }
 }
 

@@ -20,6 +20,7 @@ Image::Image(Format format, int width, int height) : format_(format), width_(wid
                                 " outside 1.." + std::to_string(kMaxDimension));
   texelBytes_ = size_t(format.bytesPerTexel());
   decoder_ = texelDecoder(format);
+  rowDecoder_ = texelRowDecoder(format);
   switch (format.id) {
     case FormatId::RGBA32F: inlineLayout_ = InlineLayout::Float32x4; break;
     case FormatId::RG32F: inlineLayout_ = InlineLayout::Float32x2; break;

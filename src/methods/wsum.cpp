@@ -41,13 +41,17 @@ class Wsum final : public Method {
     out.color[1] = &analysis;
     PipelineState plain;
     plain.profile = context.profile;
-    run.fullscreenPass("composite", out, plain, [&](const FragmentInput& in, FragmentOutput& o) {
-      const glm::vec4 sum = accum.fetch(in.x, in.y);
-      const float background = 1.0f - sum.a;
-      const glm::vec3 c1 = glm::vec3(opaque.fetch(in.x, in.y)), c0 = glm::vec3(analysis.fetch(in.x, in.y));
-      o.write(0, glm::vec4(glm::vec3(sum) + c1 * background, 1.0f));
-      o.write(1, glm::vec4(glm::vec3(sum) + c0 * background, 1.0f));
-    });
+    run.fullscreenProgram("composite", out, plain, programOfBatch([&](const FragmentBatch& in, FragmentBatchOutput& o) {
+      glm::vec4 sum[kShaderBatch], c1[kShaderBatch], c0[kShaderBatch];
+      accum.fetchRow(in.y, in.x, in.count, sum);
+      opaque.fetchRow(in.y, in.x, in.count, c1);
+      analysis.fetchRow(in.y, in.x, in.count, c0);
+      for (int i = 0; i < in.count; ++i) {
+        const float background = 1.0f - sum[i].a;
+        o.write(i, 0, glm::vec4(glm::vec3(sum[i]) + glm::vec3(c1[i]) * background, 1.0f));
+        o.write(i, 1, glm::vec4(glm::vec3(sum[i]) + glm::vec3(c0[i]) * background, 1.0f));
+      }
+    }));
     t.finish(result, "final");
     return result;
   }
