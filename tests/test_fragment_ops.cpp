@@ -411,3 +411,68 @@ TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after 
   }
   CHECK(wrongDrawId.load() == 0);
 }
+
+TEST_CASE("fragment ops: a shader's declared depth test discards unshaded, with the shader's bits and counts", "[fragment]") {
+  // FragmentProgram::discardTest declares a test the shader applies itself (depth peeling's
+  // "behind the previous layer"). The oracle is the same program without the declaration: the
+  // same colour and depth bytes and the same counters (discarded fragments count as shaded) for
+  // each depth format and compare function, on both paths; on the span path the shader runs on
+  // fewer fragments.
+  const Geometry g = overlappingTriangles(160, 29);
+  int compared = 0, fewer = 0;
+  for (DepthFormat format : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F})
+    for (CompareFunc func : {CompareFunc::Greater, CompareFunc::GEqual, CompareFunc::Less, CompareFunc::LEqual})
+      for (bool perFragment : {false, true}) {
+        // The shader's own test reads a buffer of scattered depths over the triangles' range.
+        DepthBuffer previous(format, W, H);
+        test::BitStream rng(uint32_t(format) * 8 + uint32_t(func));
+        for (int y = 0; y < H; ++y)
+          for (int x = 0; x < W; ++x) previous.store(x, y, encodeDepth(rng.uniform(0.0f, 1.0f), format));
+        const ShaderDepthTest test{&previous, func};
+        std::atomic<uint64_t> invocations[2] = {0, 0};
+        std::vector<uint8_t> bytes[2];
+        DrawStats stats[2];
+        for (int declared = 0; declared < 2; ++declared) {
+          std::atomic<uint64_t>& calls = invocations[declared];
+          const auto shader = [&](const FragmentInput& in, FragmentOutput& o) {
+            calls.fetch_add(1, std::memory_order_relaxed);
+            if (!depthTestPasses(test.func, encodeDepth(in.depth, format), previous.load(in.x, in.y), format))
+              return o.discard();
+            if ((in.primitiveId + uint32_t(in.x)) % 5 == 0) return o.discard();
+            o.write(0, colorOf(in.primitiveId));
+          };
+          Renderer r(RendererOptions{2, 8, perFragment});
+          Image a(makeFormat(FormatId::RGBA8), W, H);
+          a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+          DepthBuffer depth(DepthFormat::D24, W, H);  // the pass's own depth test: LESS, written
+          depth.clear(0.8);
+          Framebuffer fb;
+          fb.color[0] = &a, fb.depth = &depth;
+          PipelineState st;
+          st.blend[0] = kOver;
+          st.depth = {true, CompareFunc::Less, true, false};
+          FragmentProgram program = programOf(shader, true, false, false, true);
+          if (declared) program.discardTest = test;
+          stats[declared] = r.draw(fb, st, g, program);
+          bytes[declared] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
+          for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+              const uint32_t d = depth.load(x, y);
+              bytes[declared].insert(bytes[declared].end(), reinterpret_cast<const uint8_t*>(&d),
+                                     reinterpret_cast<const uint8_t*>(&d) + 4);
+            }
+        }
+        INFO(toString(format) << " " << toString(func) << " per fragment " << perFragment);
+        CHECK(bytes[0] == bytes[1]);
+        CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+        CHECK(stats[0].fragmentsDiscarded == stats[1].fragmentsDiscarded);
+        CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+        CHECK(stats[0].fragmentsWritten > 0);
+        CHECK(stats[1].fragmentsDiscarded > stats[1].fragmentsWritten / 4);
+        if (perFragment) CHECK(invocations[1] == invocations[0]);  // the oracle path ignores the declaration
+        else fewer += invocations[1] < invocations[0];
+        ++compared;
+      }
+  CHECK(compared == 24);
+  CHECK(fewer == 12);
+}

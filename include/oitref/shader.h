@@ -208,6 +208,15 @@ using FragmentBatchShader = std::function<void(const FragmentBatch& in, Fragment
 // shader cannot move the fragment's depth or the buffer's. The depth write still waits for the
 // shader, so the stored bits are those of the late test; only the counters tell (such fragments
 // count as failing the depth test, not as shaded or discarded). GPUs reject early the same way.
+// A depth test that a shader applies itself (depth peeling's test against the previous layer):
+// it discards exactly the fragments for which depthTestPasses(func, encodeDepth(gl_FragCoord.z,
+// buffer's format), the depth stored in `buffer` at the fragment's pixel, buffer's format) fails,
+// and for them does nothing else. None where buffer is null.
+struct ShaderDepthTest {
+  const DepthBuffer* buffer = nullptr;
+  CompareFunc func = CompareFunc::Always;
+};
+
 struct FragmentProgram {
   FragmentShader shader;
   bool mayDiscard = false;
@@ -219,6 +228,11 @@ struct FragmentProgram {
   // are interpolated, and FragmentInput::attributeCount says so (GL interpolates only the
   // inputs a shader uses, too).
   int attributesRead = -1;
+  // The shader's own depth test, declared (ShaderDepthTest). With `pure`, the pipeline may discard
+  // the fragments that fail it without shading them, counting them as shaded and discarded, as if
+  // the shader had run (its bits are the same either way): peeling's later passes discard most of
+  // their fragments so. The shader must still apply the test itself: it is the oracle.
+  ShaderDepthTest discardTest = {};
 };
 
 // A program whose per-fragment and batch shaders are the one callable
@@ -240,14 +254,14 @@ FragmentProgram programOf(Shader shader, bool mayDiscard = false, bool writesDep
 // A program from a batch shader, shader(const FragmentBatch&, FragmentBatchOutput&): the
 // per-fragment shader runs it on a batch of one fragment, so that it stays the batch's oracle.
 template <typename BatchShader>
-FragmentProgram programOfBatch(BatchShader shader, bool mayDiscard = false) {
+FragmentProgram programOfBatch(BatchShader shader, bool mayDiscard = false, bool pure = false) {
   FragmentProgram program{[shader](const FragmentInput& in, FragmentOutput& out) {
                             FragmentBatchOutput batchOut;
                             batchOut.reset(1);
                             shader(FragmentBatch::of(in), batchOut);
                             batchOut.load(0, out);
                           },
-                          mayDiscard, false, false, {}};
+                          mayDiscard, false, false, {}, pure};
   program.batch = std::move(shader);
   return program;
 }

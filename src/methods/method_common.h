@@ -92,17 +92,21 @@ class PassRunner {
   // shader(const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out), in.count ≤
   // kShaderBatch, for shaders whose arithmetic gains from seeing several fragments at once
   // (lanes). The per-fragment program calls it with a batch of one, so it stays the batch's oracle.
+  // `discardTest`: the shader's own depth test (FragmentProgram::discardTest; needs `pure`).
   template <typename BatchShader>
   void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
-                            const BatchShader& shader, bool mayDiscard = false) {
+                            const BatchShader& shader, bool mayDiscard = false, bool pure = false,
+                            const ShaderDepthTest& discardTest = {}) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
-      return programOfBatch(
+      FragmentProgram program = programOfBatch(
           [&object, &shader](const FragmentBatch& in, FragmentBatchOutput& out) {
             glm::vec4 colors[kShaderBatch];
             for (int i = 0; i < in.count; ++i) colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride);
             shader(in, colors, out);
           },
-          mayDiscard);
+          mayDiscard, pure);
+      program.discardTest = discardTest;
+      return program;
     });
   }
   // A pass whose shader reads nothing of the surface — only each fragment's position, depths and

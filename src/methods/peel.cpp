@@ -54,17 +54,31 @@ class Peel final : public Method {
       layerDepth = t.depth("depth");                                // step 5: D2 ← D1
       layer.clear(glm::vec4(0.0f), context.profile);                // step 6
       const DepthFormat format = peeledDepth.format();
-      run.transparentPass("peel " + std::to_string(pass + 1), layerFb, solid,  // step 7
-                          [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
-                            if (encodeDepth(in.depth, format) <= peeledDepth.load(in.x, in.y)) return out.discard();
-                            out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));
-                          },
-                          /*mayDiscard=*/true, /*pure=*/true);
+      // The fragment is kept where it lies strictly behind the previous layer: the shader's own
+      // depth test, declared so that the pipeline can skip shading what it discards.
+      const ShaderDepthTest behindPeeled{&peeledDepth, CompareFunc::Greater};
+      run.transparentBatchPass("peel " + std::to_string(pass + 1), layerFb, solid,  // step 7
+                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
+                                 for (int i = 0; i < in.count; ++i) {
+                                   if (!depthTestPasses(behindPeeled.func, encodeDepth(in.depth[i], format),
+                                                        peeledDepth.load(in.x[i], in.y), format)) {
+                                     out.discard(i);
+                                     continue;
+                                   }
+                                   const glm::vec4& c = colors[i];
+                                   out.write(i, 0, glm::vec4(glm::vec3(c) * c.a, c.a));
+                                 }
+                               },
+                               /*mayDiscard=*/true, /*pure=*/true, behindPeeled);
       const uint64_t peeled = result.passes.back().stats.fragmentsWritten;
       if (peeled == 0) exhausted = true;
       else ++peeledPasses;
-      run.fullscreenPass("under " + std::to_string(pass + 1), accumFb, under,  // step 11
-                         [&](const FragmentInput& in, FragmentOutput& out) { out.write(0, layer.fetch(in.x, in.y)); });
+      run.fullscreenProgram("under " + std::to_string(pass + 1), accumFb, under,  // step 11
+                            programOfBatch([&](const FragmentBatch& in, FragmentBatchOutput& out) {
+                              glm::vec4 c[kShaderBatch];
+                              layer.fetchRow(in.y, in.x, in.count, c);
+                              for (int i = 0; i < in.count; ++i) out.write(i, 0, c[i]);
+                            }));
       peeledDepth = layerDepth;                                     // step 13: D3 ← D2
     }
     // Step 15: C1 = C3.rgb + C1·C3.a.

@@ -38,6 +38,11 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, depth.writeMask);
   if (earlyReject_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, false);
   depthRunRejects_ = earlyDepthTest_ || earlyReject_ ? depthRunRejects(fb_.depth->format(), depth.func) : nullptr;
+  // Tested without writing: the buffer is the shader's to read (const in the program).
+  const ShaderDepthTest& discard = program.discardTest;
+  const bool discardEarly = discard.buffer != nullptr && program.pure && !program.writesDepth;
+  discardBuffer_ = discardEarly ? const_cast<DepthBuffer*>(discard.buffer) : nullptr;
+  discardBatchTest_ = discardEarly ? depthBatchTest(discard.buffer->format(), discard.func, false) : nullptr;
   // Only the attributes the shader reads are interpolated (FragmentProgram::attributesRead).
   size_t n = size_t(geometry ? geometry->attributeCount : 0);
   if (program.attributesRead >= 0) n = std::min(n, size_t(program.attributesRead));
@@ -169,6 +174,7 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n) {
   } else {
     for (int i = 0; i < n; ++i) alive[i] = i;
   }
+  if (discardBatchTest_ && count > 0) count = keepPassingDiscardTest(y, start, n, z, alive, count);
   if (program_->batch) {
     // The survivors as arrays (FragmentBatch), their barycentrics side by side so that each
     // attribute is interpolated over all of them in lanes (interpolateAttribute's expression per
@@ -216,6 +222,22 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n) {
     }
   }
   blendBatch(y, blended, blendX_, blendIndex_);
+}
+
+int FragmentStage::keepPassingDiscardTest(int y, int start, int n, const double* z, int* alive, int count) {
+  // The shader tests gl_FragCoord.z, the window z rounded to fp32 (FragmentInput::depth).
+  double fragCoordZ[kBatch];
+  for (int i = 0; i < n; ++i) fragCoordZ[i] = double(float(z[i]));
+  int passed[kBatch];
+  const int passing = discardBatchTest_(*discardBuffer_, start, y, fragCoordZ, n, passed);
+  int kept = 0;
+  for (int j = 0, p = 0; j < count; ++j) {  // alive ∩ passed, both ascending
+    while (p < passing && passed[p] < alive[j]) ++p;
+    if (p < passing && passed[p] == alive[j]) alive[kept++] = alive[j];
+  }
+  counters_.shaded += uint64_t(count - kept);
+  counters_.discarded += uint64_t(count - kept);
+  return kept;
 }
 
 // The depth row of a span two rows ahead, asked for now: a triangle's next spans in the tile

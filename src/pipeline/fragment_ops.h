@@ -84,6 +84,10 @@ class FragmentStage {
   // interpolation in lanes, the early depth test, then shadeAndBlendBatch (or the per-fragment
   // shader and blendBatch).
   void spanBatch(int y, double yn, int start, int n);
+  // Of the fragments alive[0, count) of the span's pixels [start, start + n) with window z `z`,
+  // keeps those that pass the program's discardTest (in place, ascending) and returns how many;
+  // the others count as shaded and discarded.
+  int keepPassingDiscardTest(int y, int start, int n, const double* z, int* alive, int count);
   // a = Σ b_i a_i, rounded once to fp32 (the header comment), for one fragment's attributes, or
   // for `count` fragments' as rows (attribute k of fragment j at out[k·kBatch + j]), four lanes
   // at a time.
@@ -136,6 +140,10 @@ class FragmentStage {
   // writing, and a fragment that fails it is not shaded (FragmentProgram::pure).
   bool earlyReject_;
   DepthBatchTest depthBatchTest_ = nullptr;  // span's early test, for the draw's depth state
+  // The program's own depth test (FragmentProgram::discardTest), applied before shading where the
+  // program is pure: the test without writing, and its buffer; null where there is none.
+  DepthBatchTest discardBatchTest_ = nullptr;
+  DepthBuffer* discardBuffer_ = nullptr;
   // Rejecting runs whose window-z interval fails the test (depth_bounds.h): null where the draw
   // tests no depth early or its compare function has no such bound.
   DepthRunRejects depthRunRejects_ = nullptr;
