@@ -128,22 +128,45 @@ inline double detLog(double x) {
   return detLogReduce(x, s, e, special) ? detLogSeries(s, e) : special;
 }
 
-// detLog of n arguments, four at a time in vector lanes: each lane takes detLog's operations in
-// its order (so the same bits); the four chains of 17 dependent multiply-adds overlap.
+// detLog of n arguments in vector lanes, each lane taking detLog's operations in its order (so
+// the same bits). Four groups of four lanes at a time, so that their chains of 17 dependent
+// multiply-adds overlap (one group's chain alone left the core waiting). Normal positive
+// arguments are reduced in the lanes, frexp built from the bits: x = f·2^(E − 1023) with
+// f in [1, 2) gives frexp's m = f/2 in [0.5, 1) (the mantissa under the biased exponent 1022) and
+// exponent E − 1022, exact, and the exponent as a double by the 2^52 trick (exact below 2^52).
+// Zero, subnormal, negative, infinite and NaN arguments take detLogReduce one at a time.
 inline void detLogBatch(const double* x, double* out, int n) {
   typedef double v4d __attribute__((vector_size(32)));
-  for (int start = 0; start < n; start += 4) {
-    const int lanes = n - start < 4 ? n - start : 4;
-    v4d s{}, e{};
-    double special[4] = {};
-    bool regular[4] = {};
-    for (int i = 0; i < lanes; ++i) {
-      double si = 0.0, ei = 0.0;
-      regular[i] = detLogReduce(x[start + i], si, ei, special[i]);
-      s[i] = si, e[i] = ei;
+  typedef int64_t v4l __attribute__((vector_size(32)));
+  constexpr int kGroups = 4;
+  constexpr double kMinNormal = 2.2250738585072014e-308, kTwo52 = 4503599627370496.0;
+  for (int start = 0; start < n; start += 4 * kGroups) {
+    const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
+    v4d v[kGroups], s[kGroups], e[kGroups], r[kGroups];
+    v4l regular[kGroups];
+    for (int g = 0; g < kGroups; ++g) v[g] = v4d{} + 1.0;  // lanes past n: any regular value
+    for (int i = 0; i < lanes; ++i) v[i / 4][i % 4] = x[start + i];
+    for (int g = 0; g < kGroups; ++g) {
+      regular[g] = (v[g] >= kMinNormal) & (v[g] <= 1.7976931348623157e308);  // false for NaN
+      const v4l bits = (v4l)(regular[g] ? v[g] : v4d{} + 1.0);
+      v4d m = (v4d)((bits & 0x000fffffffffffffLL) | (int64_t(1022) << 52));
+      v4d exponent = (v4d)(((bits >> 52) & 0x7ff) | (v4l)(v4d{} + kTwo52)) - kTwo52 - 1022.0;
+      const v4l low = m < 0.70710678118654752440;
+      m = low ? m * 2.0 : m;
+      exponent = low ? exponent - 1.0 : exponent;
+      s[g] = (m - 1.0) / (m + 1.0);
+      e[g] = exponent;
     }
-    const v4d r = detLogSeries(s, e);
-    for (int i = 0; i < lanes; ++i) out[start + i] = regular[i] ? r[i] : special[i];
+    for (int g = 0; g < kGroups; ++g) r[g] = detLogSeries(s[g], e[g]);  // inlined: the groups' chains interleave
+    for (int i = 0; i < lanes; ++i) {
+      const int g = i / 4, l = i % 4;
+      if (regular[g][l]) {
+        out[start + i] = r[g][l];
+      } else {
+        double si = 0.0, ei = 0.0, special = 0.0;
+        out[start + i] = detLogReduce(x[start + i], si, ei, special) ? detLogSeries(si, ei) : special;
+      }
+    }
   }
 }
 
