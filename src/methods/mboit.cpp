@@ -36,6 +36,30 @@ namespace {
 
 constexpr float kWrappingZoneAngle = 0.31415926535897932f;  // 0.1π, the paper code's default
 
+// out[4j + k] = texels[used[j]][k] / b0[j] for j < n, k < 4: each an IEEE division (the bits do
+// not depend on how many travel together), two fragments in eight lanes built in registers (put
+// together in memory lane by lane, the divisions waited for the stores: no store forwarding).
+void normaliseFourMoments(const glm::vec4* texels, const int* used, const float* b0, int n, float* out) {
+  typedef float v4f __attribute__((vector_size(16)));
+  typedef float v8f __attribute__((vector_size(32)));
+  auto load = [&](int j) {
+    v4f v;
+    std::memcpy(&v, &texels[used[j]], sizeof v);
+    return v;
+  };
+  int j = 0;
+  for (; j + 2 <= n; j += 2) {
+    const v8f m = __builtin_shufflevector(load(j), load(j + 1), 0, 1, 2, 3, 4, 5, 6, 7);
+    const v8f d = {b0[j], b0[j], b0[j], b0[j], b0[j + 1], b0[j + 1], b0[j + 1], b0[j + 1]};
+    const v8f q = m / d;
+    std::memcpy(out + 4 * j, &q, sizeof q);
+  }
+  if (j < n) {
+    const v4f q = load(j) / (v4f{} + b0[j]);
+    std::memcpy(out + 4 * j, &q, sizeof q);
+  }
+}
+
 class Mboit final : public Method {
  public:
   explicit Mboit(const MethodOptions& o)
@@ -155,8 +179,15 @@ class Mboit final : public Method {
       int used[kShaderBatch], n = 0;
       float moments[kShaderBatch * 8], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
       bool fellBack[kShaderBatch];
+      // The batch's texels a row at a time (Image::fetchRow: the layout decided once).
+      glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch], hi[kShaderBatch];
+      b0Image.fetchRow(in.y, in.x, count, b0Texels);
+      if (!quantised) {
+        momentImages[0]->fetchRow(in.y, in.x, count, lo);
+        if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
+      }
       for (int i = 0; i < count; ++i) {
-        const float b0 = b0Image.fetch(in.x[i], in.y).r;
+        const float b0 = b0Texels[i].r;
         clear[i] = b0 < 0.00100050033f;
         exponent[i] = 0.0;
         if (clear[i]) continue;
@@ -165,30 +196,25 @@ class Mboit final : public Method {
           float stored[8] = {};
           loadMoments(in.x[i], in.y, stored);
           dequantiseMoments(set, stored, b);
-        } else {
-          // Straight from the fetched texels: through an array written lane by lane and read
-          // whole, the divisions waited for the stores (no store forwarding).
-          const glm::vec4 lo = momentImages[0]->fetch(in.x[i], in.y);
-          const glm::vec4 hi = momentImages[1] ? momentImages[1]->fetch(in.x[i], in.y) : glm::vec4(0.0f);
-          if (reals == 4) {  // the usual set: the four divisions as one in vector lanes (each lane's IEEE division)
-            const glm::vec4 q = lo / b0;
-            std::memcpy(b, &q, sizeof q);
-          } else {
-            for (int k = 0; k < reals; ++k) b[k] = (k < 4 ? lo[k] : hi[k - 4]) / b0;
-          }
+        } else if (reals > 4) {
+          for (int k = 0; k < reals; ++k) b[k] = (k < 4 ? lo[i][k] : hi[i][k - 4]) / b0;
         }
         depths[n] = warp(in[i]);
         b0s[n] = b0;
         used[n++] = i;
       }
+      // The usual four moments normalised, b_k = m_k / b0, two fragments' in eight lanes.
+      if (!quantised && reals == 4) normaliseFourMoments(lo, used, b0s, n, moments);
       if (set.trigonometric)
         trigMomentAbsorbanceBatch(set.count, moments, depths, n, bias, overestimation, zone, absorbance, fellBack);
       else
         powerMomentAbsorbanceBatch(set.count, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
+      uint64_t fell = 0;  // one atomic add per batch, not per fragment that fell back
       for (int j = 0; j < n; ++j) {
-        if (fellBack[j]) fallbacks.fetch_add(1, std::memory_order_relaxed);
+        fell += fellBack[j];
         exponent[used[j]] = -double(b0s[j]) * double(absorbance[j]);
       }
+      if (fell) fallbacks.fetch_add(fell, std::memory_order_relaxed);
       detExpFloatBatch(exponent, weight, count);
       for (int i = 0; i < count; ++i) {
         const float wi = weight[i];
