@@ -135,6 +135,11 @@ class Mboit final : public Method {
                                  for (int i = 0; i < count; ++i) {
                                    const float a = absorbance[i];
                                    if (a < 1e-7f) continue;  // nearly clear: adds nothing measurable
+                                   if (reals == 4 && !set.trigonometric) {  // the usual set, in registers
+                                     out.write(i, 0, glm::vec4(a));
+                                     out.write(i, 1, PowerMoments(warp(in[i])).firstFour() * a);
+                                     continue;
+                                   }
                                    float m[8] = {};
                                    momentsOf(set, warp(in[i]), zone, m);
                                    out.write(i, 0, glm::vec4(a));

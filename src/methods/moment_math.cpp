@@ -102,8 +102,8 @@ void momentsOf(const MomentSet& set, float z, const WrappingZone& zone, float* o
     for (int k = 0; k < set.count; ++k) out[2 * k] = w[k].x, out[2 * k + 1] = w[k].y;
     return;
   }
-  const float z2 = z * z, z4 = z2 * z2, z6 = z4 * z2;
-  const float powers[8] = {z, z2, z2 * z, z4, z4 * z, z6, z6 * z, z6 * z2};
+  const PowerMoments p(z);
+  const float powers[8] = {p.z, p.z2, p.z3, p.z4, p.z5, p.z6, p.z7, p.z8};
   for (int k = 0; k < set.count; ++k) out[k] = powers[k];
 }
 

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec4.hpp>
+
 namespace oitref::methods {
 
 // A moment set: 4, 6 or 8 power moments of the depth z ∈ [−1, 1] (b1…bN, stored as N reals),
@@ -38,6 +40,13 @@ float circleToParameter(float x, float y);
 // z, z², …, z^N, or cos kφ, sin kφ for k = 1…count (fp32 products as a shader forms them; the
 // phase's cos and sin from det_math.h).
 void momentsOf(const MomentSet& set, float z, const WrappingZone& zone, float* out);
+// The power moments z … z⁸ as momentsOf forms them (z², z⁴ = z²·z², z⁶ = z⁴·z², odd ones times z),
+// inline: the first four as one vector, in registers (MBOIT's usual set).
+struct PowerMoments {
+  float z, z2, z3, z4, z5, z6, z7, z8;
+  explicit PowerMoments(float x) : z(x), z2(x * x), z3(z2 * x), z4(z2 * z2), z5(z4 * x), z6(z4 * z2), z7(z6 * x), z8(z6 * z2) {}
+  glm::vec4 firstFour() const { return {z, z2, z3, z4}; }
+};
 
 // 16-bit storage: normalised moments are mapped by a fixed matrix and offset into [0, 1] so
 // that UNORM16 keeps their useful precision; for trigonometric moments the map is b/2 + 1/2
