@@ -30,6 +30,18 @@ Geometry overlappingTriangles(int n, uint32_t seed) {
   return test::windowTriangles(pts, W, H);
 }
 
+// A colour attachment's bytes followed by a depth buffer's stored words: what two renders that
+// must agree are compared by.
+std::vector<uint8_t> attachmentBytes(const Image& color, const DepthBuffer& depth) {
+  std::vector<uint8_t> bytes(color.bytes().begin(), color.bytes().end());
+  for (int y = 0; y < depth.height(); ++y)
+    for (int x = 0; x < depth.width(); ++x) {
+      const uint32_t d = depth.load(x, y);
+      bytes.insert(bytes.end(), reinterpret_cast<const uint8_t*>(&d), reinterpret_cast<const uint8_t*>(&d) + 4);
+    }
+  return bytes;
+}
+
 const BlendState kOver = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
                                               BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);
 
@@ -236,12 +248,9 @@ TEST_CASE("fragment ops: a batch program gives the per-fragment program's attach
       };
       const DrawStats fs = r.drawFullscreen(full, PipelineState{}, batch ? programOf(fetch) : FragmentProgram{fetch});
       stats[batch].fragmentsWritten += fs.fragmentsWritten;
-      for (const Image* image : {&a, &b, &c}) bytes[batch].insert(bytes[batch].end(), image->bytes().begin(), image->bytes().end());
-      for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-          const uint32_t d = depth.load(x, y);
-          bytes[batch].insert(bytes[batch].end(), reinterpret_cast<const uint8_t*>(&d), reinterpret_cast<const uint8_t*>(&d) + 4);
-        }
+      for (const Image* image : {&a, &b}) bytes[batch].insert(bytes[batch].end(), image->bytes().begin(), image->bytes().end());
+      const std::vector<uint8_t> rest = attachmentBytes(c, depth);
+      bytes[batch].insert(bytes[batch].end(), rest.begin(), rest.end());
     }
     INFO("early fragment tests " << early);
     CHECK(bytes[0] == bytes[1]);
@@ -283,12 +292,7 @@ TEST_CASE("fragment ops: a pure program that may discard gives the late test's a
           st.blend[0] = kOver;
           st.depth = {true, func, writeDepth, false};
           stats[pure] = r.draw(fb, st, g, programOf(shader, true, false, false, pure == 1));
-          bytes[pure] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
-          for (int y = 0; y < H; ++y)
-            for (int x = 0; x < W; ++x) {
-              const uint32_t d = depth.load(x, y);
-              bytes[pure].insert(bytes[pure].end(), reinterpret_cast<const uint8_t*>(&d), reinterpret_cast<const uint8_t*>(&d) + 4);
-            }
+          bytes[pure] = attachmentBytes(a, depth);
         }
         INFO(toString(func) << " depth writes " << writeDepth << " per fragment " << perFragment);
         CHECK(bytes[0] == bytes[1]);
@@ -347,13 +351,7 @@ TEST_CASE("fragment ops: spans rejected by their depth bound give the per-fragme
             PipelineState st;
             st.depth = {true, func, true, false};
             stats[perFragment] = r.draw(fb, st, g, pure ? programOf(discarding, true, false, false, true) : programOf(shade));
-            bytes[perFragment] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
-            for (int y = 0; y < kH; ++y)
-              for (int x = 0; x < kW; ++x) {
-                const uint32_t d = depth.load(x, y);
-                bytes[perFragment].insert(bytes[perFragment].end(), reinterpret_cast<const uint8_t*>(&d),
-                                          reinterpret_cast<const uint8_t*>(&d) + 4);
-              }
+            bytes[perFragment] = attachmentBytes(a, depth);
           }
           INFO("tile " << tile << " " << toString(format) << " " << toString(func) << " pure " << pure);
           CHECK(bytes[0] == bytes[1]);
@@ -454,13 +452,7 @@ TEST_CASE("fragment ops: a shader's declared depth test discards unshaded, with 
           FragmentProgram program = programOf(shader, true, false, false, true);
           if (declared) program.discardTest = test;
           stats[declared] = r.draw(fb, st, g, program);
-          bytes[declared] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
-          for (int y = 0; y < H; ++y)
-            for (int x = 0; x < W; ++x) {
-              const uint32_t d = depth.load(x, y);
-              bytes[declared].insert(bytes[declared].end(), reinterpret_cast<const uint8_t*>(&d),
-                                     reinterpret_cast<const uint8_t*>(&d) + 4);
-            }
+          bytes[declared] = attachmentBytes(a, depth);
         }
         INFO(toString(format) << " " << toString(func) << " per fragment " << perFragment);
         CHECK(bytes[0] == bytes[1]);

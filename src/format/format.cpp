@@ -208,47 +208,41 @@ void decodeRow(const Format& f, const uint8_t* row, size_t texelBytes, const int
   for (int i = 0; i < n; ++i) out[i] = decodeTexel(f, row + size_t(xs[i]) * texelBytes);
 }
 
-template <ChannelEncoding E, int Bytes>
-TexelDecoder decoderFor(int channels) {
-  return channels == 1 ? decodeFixedLayout<E, Bytes, 1>
-         : channels == 2 ? decodeFixedLayout<E, Bytes, 2>
-         : channels == 4 ? decodeFixedLayout<E, Bytes, 4>
-                         : decodeTexel;
-}
-template <ChannelEncoding E, int Bytes>
-TexelRowDecoder rowDecoderFor(int channels) {
-  return channels == 1 ? decodeFixedLayoutRow<E, Bytes, 1>
-         : channels == 2 ? decodeFixedLayoutRow<E, Bytes, 2>
-         : channels == 4 ? decodeFixedLayoutRow<E, Bytes, 4>
-                         : decodeRow;
+// The kernel for the format's layout: kernel.operator()<E, Bytes, Channels>() for the layouts
+// with a fixed-layout kernel (8- and 16-bit UNORM, fp16, fp32; one, two or four channels), else
+// `general`. One choice for texelDecoder and texelRowDecoder.
+template <typename Fn, typename Kernel>
+Fn fixedLayoutKernel(const Format& f, Fn general, Kernel kernel) {
+  if (f.isPacked()) return general;
+  auto byChannels = [&]<ChannelEncoding E, int Bytes>() -> Fn {
+    switch (f.channels) {
+      case 1: return kernel.template operator()<E, Bytes, 1>();
+      case 2: return kernel.template operator()<E, Bytes, 2>();
+      case 4: return kernel.template operator()<E, Bytes, 4>();
+      default: return general;
+    }
+  };
+  switch (f.encoding()) {
+    case ChannelEncoding::Unorm:
+      return f.unormBits(0) == 8 ? byChannels.template operator()<ChannelEncoding::Unorm, 1>()
+             : f.unormBits(0) == 16 ? byChannels.template operator()<ChannelEncoding::Unorm, 2>()
+                                    : general;
+    case ChannelEncoding::Half: return byChannels.template operator()<ChannelEncoding::Half, 2>();
+    case ChannelEncoding::Float32: return byChannels.template operator()<ChannelEncoding::Float32, 4>();
+    default: return general;
+  }
 }
 
 }  // namespace
 
 TexelDecoder texelDecoder(const Format& f) {
-  if (f.isPacked()) return decodeTexel;
-  switch (f.encoding()) {
-    case ChannelEncoding::Unorm:
-      return f.unormBits(0) == 8 ? decoderFor<ChannelEncoding::Unorm, 1>(f.channels)
-             : f.unormBits(0) == 16 ? decoderFor<ChannelEncoding::Unorm, 2>(f.channels)
-                                    : decodeTexel;
-    case ChannelEncoding::Half: return decoderFor<ChannelEncoding::Half, 2>(f.channels);
-    case ChannelEncoding::Float32: return decoderFor<ChannelEncoding::Float32, 4>(f.channels);
-    default: return decodeTexel;
-  }
+  return fixedLayoutKernel<TexelDecoder>(
+      f, decodeTexel, []<ChannelEncoding E, int Bytes, int Channels>() { return decodeFixedLayout<E, Bytes, Channels>; });
 }
 
 TexelRowDecoder texelRowDecoder(const Format& f) {
-  if (f.isPacked()) return decodeRow;
-  switch (f.encoding()) {
-    case ChannelEncoding::Unorm:
-      return f.unormBits(0) == 8 ? rowDecoderFor<ChannelEncoding::Unorm, 1>(f.channels)
-             : f.unormBits(0) == 16 ? rowDecoderFor<ChannelEncoding::Unorm, 2>(f.channels)
-                                    : decodeRow;
-    case ChannelEncoding::Half: return rowDecoderFor<ChannelEncoding::Half, 2>(f.channels);
-    case ChannelEncoding::Float32: return rowDecoderFor<ChannelEncoding::Float32, 4>(f.channels);
-    default: return decodeRow;
-  }
+  return fixedLayoutKernel<TexelRowDecoder>(
+      f, decodeRow, []<ChannelEncoding E, int Bytes, int Channels>() { return decodeFixedLayoutRow<E, Bytes, Channels>; });
 }
 
 glm::vec4 decodeTexel(const Format& f, const uint8_t* texel) {
