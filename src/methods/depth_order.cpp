@@ -25,7 +25,6 @@ typedef int32_t i8 __attribute__((vector_size(32)));
 // back, where c counts the lanes of A it comes before (a run at the end, A being sorted). Returns
 // false when the moves exceed the budget (the keys are then a stable partial result).
 [[gnu::target("avx2,popcnt")]] bool insertInLanes(float* v, float* w, uint32_t* ix, uint32_t n, size_t budget) {
-  const i8 next = {1, 2, 3, 4, 5, 6, 7, 8};  // B from A: one lane down, the new key into lane 7
   f8 rv, rw;
   i8 ri;
   __builtin_memcpy(&rv, v - 8, 32);
@@ -56,9 +55,12 @@ typedef int32_t i8 __attribute__((vector_size(32)));
     // The lanes that move are isBefore itself (a run at the end); the new key goes to the lane
     // just below them: each from the comparison, not from c, to keep the chain from one key to
     // the next short.
-    const i8 shifted = isBefore, at = __builtin_shuffle(isBefore, i8{} - 1, next) & ~isBefore;
-    const f8 bv = __builtin_shuffle(rv, sv, next), bw = __builtin_shuffle(rw, sw, next);
-    const i8 bi = __builtin_shuffle(ri, si, next);
+    // B from A: one lane down, the new key (or for `at`, all ones) into lane 7.
+#define OITREF_NEXT_LANES 1, 2, 3, 4, 5, 6, 7, 8
+    const i8 shifted = isBefore, at = __builtin_shufflevector(isBefore, i8{} - 1, OITREF_NEXT_LANES) & ~isBefore;
+    const f8 bv = __builtin_shufflevector(rv, sv, OITREF_NEXT_LANES), bw = __builtin_shufflevector(rw, sw, OITREF_NEXT_LANES);
+    const i8 bi = __builtin_shufflevector(ri, si, OITREF_NEXT_LANES);
+#undef OITREF_NEXT_LANES
     rv = at ? sv : shifted ? rv : bv;
     rw = at ? sw : shifted ? rw : bw;
     ri = at ? si : shifted ? ri : bi;

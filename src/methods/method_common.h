@@ -194,7 +194,7 @@ inline void weightedResolveRow(const glm::vec4* accum, const float* reveal, int 
   for (; i + 2 <= n; i += 2) {
     f8 a;
     std::memcpy(&a, accum + i, sizeof a);
-    const f8 alpha = __builtin_shuffle(a, (decltype(a < a)){3, 3, 3, 3, 7, 7, 7, 7});
+    const f8 alpha = __builtin_shufflevector(a, a, 3, 3, 3, 3, 7, 7, 7, 7);
     const f8 divisor = alpha < lo ? lo : hi < alpha ? hi : alpha;  // std::clamp's comparisons
     f8 s = a / divisor;
     s[3] = reveal[i], s[7] = reveal[i + 1];
