@@ -76,24 +76,29 @@ typedef int32_t i8 __attribute__((vector_size(32)));
 
 }  // namespace
 
+void DepthOrder::orderFromKeys(uint32_t n, uint32_t* order, bool sorted) {
+  if (!sorted)
+    std::stable_sort(keys_.begin(), keys_.begin() + n, [](const Key& a, const Key& b) {
+      return before(a.viewDepth, a.windowDepth, b.viewDepth, b.windowDepth);
+    });
+  for (uint32_t i = 0; i < n; ++i) order[i] = keys_[i].index;
+}
+
 void DepthOrder::sortScalar(const TransparentFragment* list, uint32_t n, uint32_t* order) {
   keys_.resize(n);
   for (uint32_t i = 0; i < n; ++i) keys_[i] = {list[i].viewDepth, list[i].windowDepth, i};
-  const auto keyBefore = [](const Key& a, const Key& b) { return before(a.viewDepth, a.windowDepth, b.viewDepth, b.windowDepth); };
   size_t moves = 0;
   const size_t budget = moveBudget(n);
   for (uint32_t i = 1; i < n; ++i) {
     const Key k = keys_[i];
     uint32_t j = i;
-    for (; j > 0 && keyBefore(k, keys_[j - 1]); --j) keys_[j] = keys_[j - 1];
+    for (; j > 0 && before(k.viewDepth, k.windowDepth, keys_[j - 1].viewDepth, keys_[j - 1].windowDepth); --j)
+      keys_[j] = keys_[j - 1];
     keys_[j] = k;
     moves += i - j;
-    if (moves > budget) {
-      std::stable_sort(keys_.begin(), keys_.end(), keyBefore);
-      break;
-    }
+    if (moves > budget) return orderFromKeys(n, order, false);
   }
-  for (uint32_t i = 0; i < n; ++i) order[i] = keys_[i].index;
+  orderFromKeys(n, order, true);
 }
 
 void DepthOrder::sort(const TransparentFragment* list, uint32_t n, uint32_t* order) {
@@ -115,11 +120,7 @@ void DepthOrder::sort(const TransparentFragment* list, uint32_t n, uint32_t* ord
     // Not nearly sorted: std::stable_sort finishes from the stable partial order.
     keys_.resize(n);
     for (uint32_t i = 0; i < n; ++i) keys_[i] = {view_[8 + i], window_[8 + i], index_[8 + i]};
-    std::stable_sort(keys_.begin(), keys_.end(), [](const Key& a, const Key& b) {
-      return before(a.viewDepth, a.windowDepth, b.viewDepth, b.windowDepth);
-    });
-    for (uint32_t i = 0; i < n; ++i) order[i] = keys_[i].index;
-    return;
+    return orderFromKeys(n, order, false);
   }
 #endif
   sortScalar(list, n, order);

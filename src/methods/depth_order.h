@@ -32,6 +32,8 @@ class DepthOrder {
     float viewDepth, windowDepth;
     uint32_t index;
   };
+  // order from keys_[0, n), after a stable sort of them unless `sorted`.
+  void orderFromKeys(uint32_t n, uint32_t* order, bool sorted);
   std::vector<Key> keys_;
   std::vector<float> view_, window_;
   std::vector<uint32_t> index_;
