@@ -186,9 +186,13 @@ inline bool anyLane(d4Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 inline float sqrtF(float x) { return std::sqrt(x); }
 inline double sqrtF(double x) { return std::sqrt(x); }
 inline v8f sqrtF(v8f x) {
+#if defined(__AVX__)
+  return (v8f)_mm256_sqrt_ps((__m256)x);  // per lane, without std::sqrt's errno branch per lane
+#else
   v8f r;
   for (int i = 0; i < 8; ++i) r[i] = std::sqrt(x[i]);
   return r;
+#endif
 }
 inline lanes::d4 sqrtF(lanes::d4 x) {
 #if defined(__AVX__)
@@ -418,21 +422,42 @@ float powerMomentAbsorbance(int count, const float* b, float z, float bias, cons
 void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, const float* biasVector,
                                 float overestimation, float* absorbance, bool* fellBack) {
   int i = 0;
-  if (count == 4)
+  if (count == 4) {
+    typedef float v4f __attribute__((vector_size(16)));
+    const float keep = 1.0f - bias;  // biasedMoment's operations, in lanes
+    v8f biasTerm[4];
+    for (int k = 0; k < 4; ++k) biasTerm[k] = splatF<v8f>(bias * biasVector[k]);
+    auto row = [&](int j) {
+      v4f r;
+      std::memcpy(&r, b + size_t(j) * 4, sizeof r);
+      return r;
+    };
     for (; i + 8 <= n; i += 8) {
+      // Eight fragments' four moments turned into four vectors of eight lanes in registers (an
+      // 8×4 transpose: pairs of rows, then the 4×4 transposes of both halves at once).
+      const v8f a0 = __builtin_shufflevector(row(i), row(i + 4), 0, 1, 2, 3, 4, 5, 6, 7);
+      const v8f a1 = __builtin_shufflevector(row(i + 1), row(i + 5), 0, 1, 2, 3, 4, 5, 6, 7);
+      const v8f a2 = __builtin_shufflevector(row(i + 2), row(i + 6), 0, 1, 2, 3, 4, 5, 6, 7);
+      const v8f a3 = __builtin_shufflevector(row(i + 3), row(i + 7), 0, 1, 2, 3, 4, 5, 6, 7);
+      const v8f t0 = __builtin_shufflevector(a0, a1, 0, 8, 1, 9, 4, 12, 5, 13);
+      const v8f t1 = __builtin_shufflevector(a0, a1, 2, 10, 3, 11, 6, 14, 7, 15);
+      const v8f t2 = __builtin_shufflevector(a2, a3, 0, 8, 1, 9, 4, 12, 5, 13);
+      const v8f t3 = __builtin_shufflevector(a2, a3, 2, 10, 3, 11, 6, 14, 7, 15);
+      const v8f column[4] = {__builtin_shufflevector(t0, t2, 0, 1, 8, 9, 4, 5, 12, 13),
+                             __builtin_shufflevector(t0, t2, 2, 3, 10, 11, 6, 7, 14, 15),
+                             __builtin_shufflevector(t1, t3, 0, 1, 8, 9, 4, 5, 12, 13),
+                             __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15)};
       v8f m[4], zl;
-      for (int l = 0; l < 8; ++l) {
-        zl[l] = z[i + l];
-        for (int k = 0; k < 4; ++k) m[k][l] = biasedMoment(b[(i + l) * 4 + k], bias, biasVector[k]);
-      }
+      for (int k = 0; k < 4; ++k) m[k] = splatF<v8f>(keep) * column[k] + biasTerm[k];
+      std::memcpy(&zl, z + i, sizeof zl);
       v8i ok;
       const v8f a = fourPowerMomentAbsorbance(m, zl, overestimation, ok);
       const v8i use = ok & finiteF(a);
-      for (int l = 0; l < 8; ++l) {
-        fellBack[i + l] = !use[l];
-        absorbance[i + l] = use[l] ? a[l] : overestimation;
-      }
+      const v8f result = selectF(use, a, splatF<v8f>(overestimation));
+      std::memcpy(absorbance + i, &result, sizeof result);
+      for (int l = 0; l < 8; ++l) fellBack[i + l] = use[l] == 0;
     }
+  }
   for (; i < n; ++i)
     absorbance[i] = powerMomentAbsorbance(count, b + size_t(i) * count, z[i], bias, biasVector, overestimation, &fellBack[i]);
 }
