@@ -150,3 +150,23 @@ TEST_CASE("det math: the batched log gives detLog's bits in every lane", "[detma
   }
   CHECK(different == 0);
 }
+
+TEST_CASE("det math: a batch of one repeated argument gives detLog's bits in every lane", "[detmath]") {
+  // detLogBatch takes detLog once for a batch whose arguments are one bit pattern (a material's
+  // constant alpha); batches that differ in one place only, anywhere, must not take that path.
+  size_t different = 0, cases = 0;
+  for (const double value : {0.25, 0.886, 1.0 - 0x1p-20, 0.0, -0.0, 1e-310, -1.0, double(NAN), double(INFINITY)})
+    for (int n : {2, 3, 4, 15, 16, 17, 63, 64})
+      for (int odd = -1; odd < n; ++odd) {  // −1: every argument the same
+        std::vector<double> x(static_cast<size_t>(n), value), out(static_cast<size_t>(n));
+        if (odd >= 0) x[size_t(odd)] = value == 0.25 ? 0.5 : 0.25;
+        methods::detLogBatch(x.data(), out.data(), n);
+        for (int i = 0; i < n; ++i) {
+          const double want = methods::detLog(x[size_t(i)]);
+          different += std::memcmp(&want, &out[size_t(i)], sizeof(double)) != 0;
+        }
+        ++cases;
+      }
+  CHECK(cases == 9 * (3 + 4 + 5 + 16 + 17 + 18 + 64 + 65));
+  CHECK(different == 0);
+}

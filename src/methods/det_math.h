@@ -128,6 +128,19 @@ inline double detLog(double x) {
   return detLogReduce(x, s, e, special) ? detLogSeries(s, e) : special;
 }
 
+// Whether x[0…n) are one bit pattern. Out of line: inlined into shaders whose arrays are filled
+// for a count GCC cannot bound, it warned that x[0] may be unset.
+[[gnu::noinline]] inline bool allSameBits(const double* x, int n) {
+  uint64_t first;
+  std::memcpy(&first, x, sizeof first);
+  for (int i = 1; i < n; ++i) {
+    uint64_t bits;
+    std::memcpy(&bits, x + i, sizeof bits);
+    if (bits != first) return false;
+  }
+  return true;
+}
+
 // detLog of n arguments in vector lanes, each lane taking detLog's operations in its order (so
 // the same bits). Four groups of four lanes at a time, so that their chains of 17 dependent
 // multiply-adds overlap (one group's chain alone left the core waiting). Normal positive
@@ -135,9 +148,17 @@ inline double detLog(double x) {
 // f in [1, 2) gives frexp's m = f/2 in [0.5, 1) (the mantissa under the biased exponent 1022) and
 // exponent E − 1022, exact, and the exponent as a double by the 2^52 trick (exact below 2^52).
 // Zero, subnormal, negative, infinite and NaN arguments take detLogReduce one at a time.
+//
+// A batch whose arguments are all one value (one bit pattern: a material's constant alpha, say)
+// takes detLog once; a pure function of the bits, so the same bits as each alone.
 inline void detLogBatch(const double* x, double* out, int n) {
   typedef double v4d __attribute__((vector_size(32)));
   typedef int64_t v4l __attribute__((vector_size(32)));
+  if (n > 1 && allSameBits(x, n)) {
+    const double r = detLog(x[0]);
+    for (int i = 0; i < n; ++i) out[i] = r;
+    return;
+  }
   constexpr int kGroups = 4;
   constexpr double kMinNormal = 2.2250738585072014e-308, kTwo52 = 4503599627370496.0;
   for (int start = 0; start < n; start += 4 * kGroups) {

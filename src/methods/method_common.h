@@ -100,6 +100,7 @@ class PassRunner {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       FragmentProgram program = programOfBatch(
           [&object, &shader](const FragmentBatch& in, FragmentBatchOutput& out) {
+            if (in.count <= 0) return;  // never: it tells the compiler the rows below are set
             glm::vec4 colors[kShaderBatch];
             for (int i = 0; i < in.count; ++i) colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride);
             shader(in, colors, out);

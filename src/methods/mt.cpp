@@ -52,6 +52,7 @@ class Mt final : public Method {
     // logarithms together (detLogBatch: the same bits as detLog).
     auto unitDepths = [&](const FragmentBatch& in, float* u) {
       const int count = in.count;
+      if (count <= 0) return;  // never: it tells the compiler that x below is set
       double x[kShaderBatch], ln[kShaderBatch];
       for (int i = 0; i < count; ++i) x[i] = double(in.viewDepth[i]) / double(cam.nearPlane);
       detLogBatch(x, ln, count);
