@@ -34,6 +34,20 @@ inline double detExp(double x) {
   return std::ldexp(p, int(k));
 }
 
+// Four groups of four lanes from x[0…lanes), lanes ≤ 16, the rest `fill`: whole vectors where
+// the groups are full (built lane by lane in memory, each vector load waited on the narrower
+// stores before it: no store forwarding).
+template <typename V>
+inline void loadLanes(const double* x, int lanes, double fill, V (&v)[4]) {
+  if (lanes == 16) {
+    std::memcpy(v, x, sizeof v);
+    return;
+  }
+  double padded[16];
+  for (int i = 0; i < 16; ++i) padded[i] = i < lanes ? x[i] : fill;
+  std::memcpy(v, padded, sizeof v);
+}
+
 // The polynomial of detExpFloatBatch: Σ r^m / m! for m ≤ 13 in Horner form, with coefficients
 // 1/m! computed as 1/(m−1)! / m (within 13 ulps), on one value or on lanes.
 template <typename D>
@@ -76,9 +90,9 @@ inline void detExpFloatBatch(const double* x, float* out, int n) {
   constexpr int kGroups = 4;
   for (int start = 0; start < n; start += 4 * kGroups) {
     const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
-    v4d v[kGroups] = {}, r[kGroups], q[kGroups];
+    v4d v[kGroups], r[kGroups], q[kGroups];
     v4l kBits[kGroups], regular[kGroups];
-    for (int i = 0; i < lanes; ++i) v[i / 4][i % 4] = x[start + i];
+    loadLanes(x + start, lanes, 0.0, v);
     for (int g = 0; g < kGroups; ++g) {
       regular[g] = (v[g] == v[g]) & (v[g] <= 700.0) & (v[g] >= -700.0);
       const v4d inRange = regular[g] ? v[g] : v4d{};
@@ -165,8 +179,7 @@ inline void detLogBatch(const double* x, double* out, int n) {
     const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
     v4d v[kGroups], s[kGroups], e[kGroups], r[kGroups];
     v4l regular[kGroups];
-    for (int g = 0; g < kGroups; ++g) v[g] = v4d{} + 1.0;  // lanes past n: any regular value
-    for (int i = 0; i < lanes; ++i) v[i / 4][i % 4] = x[start + i];
+    loadLanes(x + start, lanes, 1.0, v);  // lanes past n: any regular value
     for (int g = 0; g < kGroups; ++g) {
       regular[g] = (v[g] >= kMinNormal) & (v[g] <= 1.7976931348623157e308);  // false for NaN
       const v4l bits = (v4l)(regular[g] ? v[g] : v4d{} + 1.0);
