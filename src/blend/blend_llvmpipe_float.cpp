@@ -337,10 +337,64 @@ v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destina
 // (llvmpipeFloatTexelsFor); the same IEEE operations per lane as the four-lane path.
 #define LP_AVX2 [[gnu::target("avx2")]]
 
+// The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
+// encodeHalfInline), then each pixel's channels stored whole: read lane by lane, the result
+// waited on its own store (store forwarding) and the rounding was tested per channel.
+template <int Channels, bool Half>
+LP_INLINE void storeLanes(uint8_t* const* texels, v8f r, Rounding fp16) {
+  constexpr int P = 8 / Channels;
+  if constexpr (Half) {
+    alignas(16) uint16_t h[8];
+#if defined(OITREF_HAVE_F16C)
+    const __m128i packed = fp16 == Rounding::TowardZero
+                               ? _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
+                               : _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    _mm_store_si128(reinterpret_cast<__m128i*>(h), packed);
+#else
+    for (int l = 0; l < 8; ++l) h[l] = encodeHalfInline(r[l], fp16);
+#endif
+    for (int p = 0; p < P; ++p) std::memcpy(texels[p], h + p * Channels, 2 * Channels);
+  } else {
+    alignas(32) float f[8];
+    std::memcpy(f, &r, sizeof f);
+    for (int p = 0; p < P; ++p) std::memcpy(texels[p], f + p * Channels, 4 * Channels);
+  }
+}
+// The sources of 8 / Channels pixels and their destinations `d` into the lanes.
+template <int Channels>
+LP_INLINE void gatherPixels(Lanes8& lanes, const glm::vec4* const* sources, const v4f* d) {
+  constexpr int P = 8 / Channels;
+  v4f s[P];
+  for (int p = 0; p < P; ++p) s[p] = load4(*sources[p]);
+  gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
+  gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
+}
+
+// Pixels [0, n) blended again with every rare lane's rule applied, from the destinations as they
+// were loaded: blendTexels's rare chunk. One function per layout with the shape read at run time
+// (the same operations as a shape compiled in, which only folds them), so that each compiled
+// function does not carry a second copy of the blend with the rules' scalar loops (most of this
+// file's compile time). The constant's lanes come by value (by reference, the caller's lanes
+// would live in memory), and the plan too, by value: by reference, its address escaped and the caller's
+// compiled shape was read back from memory after each call instead of folded (twice as slow).
+template <int Channels, bool Half>
+[[gnu::noinline]] LP_AVX2 void blendAgainWithRules(LlvmpipeFloatPlan plan, v8f constant, v8f constantAlpha,
+                                                   const glm::vec4* const* sources, uint8_t* const* texels,
+                                                   const v4f* loaded, int n, Rounding fp16) {
+  constexpr int P = 8 / Channels;
+  Lanes8 lanes;
+  lanes.constant = constant;
+  lanes.constantAlpha = constantAlpha;
+  for (int i = 0; i < n; i += P) {
+    gatherPixels<Channels>(lanes, sources + i, loaded + i);
+    storeLanes<Channels, Half>(texels + i, runLanes(plan, lanes, nullptr), fp16);
+  }
+}
+
 // LlvmpipeFloatTexelsFn's loop, inlined into each compiled function. Up to kChunk pixels are
 // blended with the rare lanes' rules deferred (Arith: one test for the chunk instead of one per
-// operation and group); in the rare chunk that has such a lane, every group is blended again
-// from the destinations as they were loaded, with the rules applied. The same bits either way.
+// operation and group); in the rare chunk that has such a lane, every pixel of it is blended
+// again from the destinations as they were loaded, with the rules applied. The same bits either way.
 template <int Channels, bool Half>
 LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                           uint8_t* const* texels, int n, Rounding fp16) {
@@ -350,33 +404,6 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
   v4f cs[P];
   for (v4f& x : cs) x = c;
   gatherLanes<Channels>(cs, lanes.constant, lanes.constantAlpha);
-  // The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
-  // encodeHalfInline), then each pixel's channels stored whole: read lane by lane, the result
-  // waited on its own store (store forwarding) and the rounding was tested per channel.
-  auto store = [&](int i, v8f r) {
-    if constexpr (Half) {
-      alignas(16) uint16_t h[8];
-#if defined(OITREF_HAVE_F16C)
-      const __m128i packed = fp16 == Rounding::TowardZero
-                                 ? _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
-                                 : _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-      _mm_store_si128(reinterpret_cast<__m128i*>(h), packed);
-#else
-      for (int l = 0; l < 8; ++l) h[l] = encodeHalfInline(r[l], fp16);
-#endif
-      for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], h + p * Channels, 2 * Channels);
-    } else {
-      alignas(32) float f[8];
-      std::memcpy(f, &r, sizeof f);
-      for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], f + p * Channels, 4 * Channels);
-    }
-  };
-  auto gather = [&](int i, const v4f* d) {
-    v4f s[P];
-    for (int p = 0; p < P; ++p) s[p] = load4(*sources[i + p]);
-    gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
-    gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
-  };
   const int whole = n - n % P;
   for (int chunk = 0; chunk < whole; chunk += kChunk) {
     const int end = chunk + kChunk < whole ? chunk + kChunk : whole;
@@ -386,14 +413,12 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
       v4f* d = loaded + (i - chunk);
       for (int p = 0; p < P; ++p)
         d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
-      gather(i, d);
-      store(i, runLanes(plan, lanes, &special));
+      gatherPixels<Channels>(lanes, sources + i, d);
+      storeLanes<Channels, Half>(texels + i, runLanes(plan, lanes, &special), fp16);
     }
     if (Arith<v8f>::any(special))
-      for (int i = chunk; i < end; i += P) {
-        gather(i, loaded + (i - chunk));
-        store(i, runLanes(plan, lanes, nullptr));
-      }
+      blendAgainWithRules<Channels, Half>(plan, lanes.constant, lanes.constantAlpha, sources + chunk, texels + chunk,
+                                          loaded, end - chunk, fp16);
   }
   return whole;
 }
@@ -422,22 +447,40 @@ LP_AVX2 int compiledTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& const
   return blendTexels<Shape.channels, Half>(withShape<Shape>(plan), constant, sources, texels, n, fp16);
 }
 
-// One compiled function per method blend state and float layout: r, rg (no alpha) and rgba.
+// One compiled function per method blend state and the float layouts it is drawn into (r, rg: no
+// alpha; rgba), as kMethodFloatLayouts lists them.
 struct CompiledEntry {
   LlvmpipeFloatShape shape;
   LlvmpipeFloatBlendFn fn;
   LlvmpipeFloatTexelsFn texels[2];  // fp32, fp16
 };
-template <size_t I, int Channels>
+struct StateLayout {
+  size_t state = 0;
+  int channels = 0;
+};
+constexpr size_t kStateLayoutCount = [] {
+  size_t n = 0;
+  for (unsigned layouts : states::kMethodFloatLayouts) n += size_t(std::popcount(layouts));
+  return n;
+}();
+constexpr auto kStateLayouts = [] {
+  std::array<StateLayout, kStateLayoutCount> pairs{};
+  size_t n = 0;
+  for (size_t i = 0; i < std::size(states::kMethodFloatLayouts); ++i)
+    for (int channels : {1, 2, 4})
+      if (states::kMethodFloatLayouts[i] & unsigned(channels)) pairs[n++] = {i, channels};
+  return pairs;
+}();
+template <StateLayout P>
 constexpr CompiledEntry entry() {
-  constexpr LlvmpipeFloatShape shape = llvmpipeFloatShape(Channels, Channels == 4, states::kMethodBlendStates[I]);
+  constexpr LlvmpipeFloatShape shape = llvmpipeFloatShape(P.channels, P.channels == 4, states::kMethodBlendStates[P.state]);
   return {shape, &compiled<shape>, {&compiledTexels<shape, false>, &compiledTexels<shape, true>}};
 }
-template <size_t... I>
-constexpr auto compiledTable(std::index_sequence<I...>) {
-  return std::array<CompiledEntry, 3 * sizeof...(I)>{entry<I, 1>()..., entry<I, 2>()..., entry<I, 4>()...};
+template <size_t... J>
+constexpr auto compiledTable(std::index_sequence<J...>) {
+  return std::array<CompiledEntry, sizeof...(J)>{entry<kStateLayouts[J]>()...};
 }
-constexpr auto kCompiled = compiledTable(std::make_index_sequence<std::size(states::kMethodBlendStates)>());
+constexpr auto kCompiled = compiledTable(std::make_index_sequence<kStateLayoutCount>());
 
 }  // namespace
 

@@ -5,6 +5,8 @@
 // same bits.
 #pragma once
 
+#include <iterator>
+
 #include "oitref/blend_state.h"
 
 namespace oitref::detail::states {
@@ -30,8 +32,21 @@ inline constexpr BlendState kUnder = BlendState::separate(E::Add, E::Add, F::Dst
 inline constexpr BlendState kPremultipliedOntoBackground = BlendState::separate(E::Add, E::Add, F::One, F::SrcAlpha, F::Zero, F::One);
 // MAX of source and destination (dual depth peeling's depth range).
 inline constexpr BlendState kMax = BlendState::same(E::Max, F::One, F::One);
+// A premultiplied front layer over the background: C_s + C_d·(1 − α_s), alpha kept (dual peeling's merge).
+inline constexpr BlendState kFrontOntoBackground = BlendState::separate(E::Add, E::Add, F::One, F::OneMinusSrcAlpha, F::Zero, F::One);
 
 inline constexpr BlendState kMethodBlendStates[] = {kOver,      kAdditive, kRevealage, kProduct, kSingleTargetWeighted,
-                                                    kComposite, kUnder,    kPremultipliedOntoBackground, kMax};
+                                                    kComposite, kUnder,    kPremultipliedOntoBackground, kMax,
+                                                    kFrontOntoBackground};
+
+// The float layouts each state above is drawn into by a method — a bit per channel count: r (1),
+// rg (2), rgba (4) — for the kernels compiled once per state and layout (blend_llvmpipe_float.cpp:
+// each costs compile time, and the unused ones were most of it). A pair not listed blends through
+// the general kernel: the same bits, slower. (The methods' attachments decide these: R32F/R16F
+// Σ and Π(1 − α) targets, RG32F depth ranges, RGBA everything else.)
+inline constexpr unsigned kR = 1, kRg = 2, kRgba = 4;
+inline constexpr unsigned kMethodFloatLayouts[] = {kRgba, kR | kRg | kRgba, kR,    kRgba,      kRgba,
+                                                   kRgba, kRgba,             kRgba, kRg | kRgba, kRgba};
+static_assert(std::size(kMethodFloatLayouts) == std::size(kMethodBlendStates));
 
 }  // namespace oitref::detail::states

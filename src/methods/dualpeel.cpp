@@ -114,9 +114,7 @@ class Dualpeel final : public Method {
     // C = front.rgb + C_background·(1 − front.a).
     PipelineState merge;
     merge.profile = profile;
-    merge.blend[0] = merge.blend[1] =
-        BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One, BlendFactor::OneMinusSrcAlpha,
-                             BlendFactor::Zero, BlendFactor::One);
+    merge.blend[0] = merge.blend[1] = detail::states::kFrontOntoBackground;
     const Image& frontFinal = *front[current];
     run.fullscreenPass("merge front", onBackground, merge, [&](const FragmentInput& in, FragmentOutput& o) {
       const glm::vec4 f = frontFinal.fetch(in.x, in.y);
