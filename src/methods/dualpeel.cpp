@@ -25,6 +25,26 @@ namespace {
 
 BlendState maxBlend() { return detail::states::kMax; }
 
+// A peeling pass's shader for one fragment at window depth z with colour c: the pixel's unpeeled
+// range (−nearest, farthest) and front layer so far from the previous pass. Targets: 0 the next
+// range, 1 the front layer (passed through under MAX, or this fragment under it when it is the
+// nearest), 2 this fragment when it is the farthest.
+void peel(float z, const glm::vec4& c, const glm::vec4& range, const glm::vec4& frontSoFar, FragmentBatchOutput& out,
+          int i) {
+  const float nearest = -range.x, farthest = range.y;
+  out.write(i, 1, frontSoFar);  // pass-through under MAX
+  out.write(i, 2, glm::vec4(0.0f));
+  if (z < nearest || z > farthest) return out.write(i, 0, glm::vec4(-1.0f));
+  if (z > nearest && z < farthest) return out.write(i, 0, glm::vec4(-z, z, 0.0f, 0.0f));
+  out.write(i, 0, glm::vec4(-1.0f));
+  if (z == nearest) {
+    const float multiplier = 1.0f - frontSoFar.a;
+    out.write(i, 1, glm::vec4(glm::vec3(frontSoFar) + glm::vec3(c) * c.a * multiplier, 1.0f - multiplier * (1.0f - c.a)));
+  } else {
+    out.write(i, 2, c);
+  }
+}
+
 class Dualpeel final : public Method {
  public:
   explicit Dualpeel(const MethodOptions& o) : passes_(int(o.number("passes"))), colorFormat_(o.text("color")) {}
@@ -79,24 +99,14 @@ class Dualpeel final : public Method {
       fb.color[1] = &frontNext;
       fb.color[2] = &back;
       fb.depth = &t.depth("depth");
-      run.transparentPass("peel " + std::to_string(pass), fb, maxState,
-                          [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
-                            const glm::vec4 range = depthPrev.fetch(in.x, in.y);
-                            const glm::vec4 frontSoFar = frontPrev.fetch(in.x, in.y);
-                            const float nearest = -range.x, farthest = range.y, z = in.depth;
-                            out.write(1, frontSoFar);  // pass-through under MAX
-                            out.write(2, glm::vec4(0.0f));
-                            if (z < nearest || z > farthest) return out.write(0, glm::vec4(-1.0f));
-                            if (z > nearest && z < farthest) return out.write(0, glm::vec4(-z, z, 0.0f, 0.0f));
-                            out.write(0, glm::vec4(-1.0f));
-                            if (z == nearest) {
-                              const float multiplier = 1.0f - frontSoFar.a;
-                              out.write(1, glm::vec4(glm::vec3(frontSoFar) + glm::vec3(c) * c.a * multiplier,
-                                                     1.0f - multiplier * (1.0f - c.a)));
-                            } else {
-                              out.write(2, c);
-                            }
-                          });
+      // A batch at a time: the previous range and front layer fetched a row at a time.
+      run.transparentBatchPass("peel " + std::to_string(pass), fb, maxState,
+                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
+                                 glm::vec4 ranges[kShaderBatch], fronts[kShaderBatch];
+                                 depthPrev.fetchRow(in.y, in.x, in.count, ranges);
+                                 frontPrev.fetchRow(in.y, in.x, in.count, fronts);
+                                 for (int i = 0; i < in.count; ++i) peel(in.depth[i], colors[i], ranges[i], fronts[i], out, i);
+                               });
       // The back layer OVER the background; the draw count is the sample's occlusion query.
       run.fullscreenPass("blend back " + std::to_string(pass), onBackground, over,
                          [&](const FragmentInput& in, FragmentOutput& o) {
