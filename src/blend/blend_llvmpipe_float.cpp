@@ -374,9 +374,9 @@ LP_INLINE void gatherPixels(Lanes8& lanes, const glm::vec4* const* sources, cons
 // were loaded: blendTexels's rare chunk. One function per layout with the shape read at run time
 // (the same operations as a shape compiled in, which only folds them), so that each compiled
 // function does not carry a second copy of the blend with the rules' scalar loops (most of this
-// file's compile time). The constant's lanes come by value (by reference, the caller's lanes
-// would live in memory), and the plan too, by value: by reference, its address escaped and the caller's
-// compiled shape was read back from memory after each call instead of folded (twice as slow).
+// file's compile time). The plan and the constant's lanes come by value: by reference their
+// addresses escaped, and the caller read its compiled shape back from memory after each call
+// instead of folding it (twice as slow).
 template <int Channels, bool Half>
 [[gnu::noinline]] LP_AVX2 void blendAgainWithRules(LlvmpipeFloatPlan plan, v8f constant, v8f constantAlpha,
                                                    const glm::vec4* const* sources, uint8_t* const* texels,

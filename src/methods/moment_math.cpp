@@ -424,9 +424,6 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
   int i = 0;
   if (count == 4) {
     typedef float v4f __attribute__((vector_size(16)));
-    const float keep = 1.0f - bias;  // biasedMoment's operations, in lanes
-    v8f biasTerm[4];
-    for (int k = 0; k < 4; ++k) biasTerm[k] = splatF<v8f>(bias * biasVector[k]);
     auto row = [&](int j) {
       v4f r;
       std::memcpy(&r, b + size_t(j) * 4, sizeof r);
@@ -448,7 +445,7 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
                              __builtin_shufflevector(t1, t3, 0, 1, 8, 9, 4, 5, 12, 13),
                              __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15)};
       v8f m[4], zl;
-      for (int k = 0; k < 4; ++k) m[k] = splatF<v8f>(keep) * column[k] + biasTerm[k];
+      for (int k = 0; k < 4; ++k) m[k] = biasedMoment(column[k], bias, biasVector[k]);
       std::memcpy(&zl, z + i, sizeof zl);
       v8i ok;
       const v8f a = fourPowerMomentAbsorbance(m, zl, overestimation, ok);

@@ -73,7 +73,11 @@ float powerMomentAbsorbance(int count, const float* b, float z, float bias, cons
 void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, const float* biasVector,
                                 float overestimation, float* absorbance, bool* fellBack);
 // The moment pulled towards the bias vector: (1 − β)·b + β·bias, as the paper code forms it.
-inline float biasedMoment(float b, float bias, float biasValue) { return (1.0f - bias) * b + bias * biasValue; }
+// One value (F = float) or lanes of them (a vector of floats, powerMomentAbsorbanceBatch).
+template <typename F>
+inline F biasedMoment(F b, float bias, float biasValue) {
+  return (1.0f - bias) * b + bias * biasValue;
+}
 float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation,
                            const WrappingZone& zone, bool* fellBack = nullptr);
 // trigMomentAbsorbance for n fragments (b[i·2·count + k], z[i]): their roots found four at a time
