@@ -13,6 +13,7 @@
 #include "glcheck/scene_check.h"
 #include "gpucapture/gl_trace.h"
 #include "tools/blend_case_generator.h"
+#include "tools/command_line.h"
 #include "tools/commands.h"
 #include "tools/image_io.h"
 #include "tools/number_parse.h"

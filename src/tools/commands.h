@@ -48,6 +48,5 @@ void addSuiteCommand(CLI::App& app, int& exitCode);
 void addStudyCommand(CLI::App& app, int& exitCode);
 void addStressCommand(CLI::App& app, int& exitCode);
 void addTrainCommand(CLI::App& app, int& exitCode);
-void addGlcheckCommand(CLI::App& app, int& exitCode);  // only when built with OITREF_HAVE_GLCHECK
 
 }  // namespace oitref::tools

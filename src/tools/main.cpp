@@ -3,7 +3,7 @@
 
 #include "oitref/fp16.h"
 #include "oitref/fp_environment.h"
-#include "tools/commands.h"
+#include "tools/command_line.h"
 #include "tools/process_setup.h"
 
 int main(int argc, char** argv) {
@@ -16,21 +16,9 @@ int main(int argc, char** argv) {
 #endif
   const oitref::DefaultFloatingPoint fp;  // every rule assumes IEEE defaults
   oitref::tools::keepLargeAllocations();
-  CLI::App app{"oitref: a bit-exact CPU reference of the GPU pipeline for order-independent transparency"};
-  app.require_subcommand(1);
-  int exitCode = 0;
-  oitref::tools::addBlendCommand(app, exitCode);
-  oitref::tools::addDemoCommand(app, exitCode);
-  oitref::tools::addRenderCommand(app, exitCode);
-  oitref::tools::addMethodsCommand(app, exitCode);
-  oitref::tools::addSuiteCommand(app, exitCode);
-  oitref::tools::addStudyCommand(app, exitCode);
-  oitref::tools::addStressCommand(app, exitCode);
-  oitref::tools::addTrainCommand(app, exitCode);
-  oitref::tools::addCompareCommand(app, exitCode);
 #if defined(OITREF_HAVE_GLCHECK)
-  oitref::tools::addGlcheckCommand(app, exitCode);
+  return oitref::tools::runCommandLine(argc, argv, &oitref::tools::addGlcheckCommand);
+#else
+  return oitref::tools::runCommandLine(argc, argv, nullptr);
 #endif
-  CLI11_PARSE(app, argc, argv);
-  return exitCode;
 }

@@ -55,7 +55,7 @@ std::string atlasTable(const StressRow& row, const StressOptions& o) {
   return t.str();
 }
 
-constexpr const char* kStyle = R"(body{font:14px/1.4 system-ui,sans-serif;margin:2em auto;max-width:1500px;padding:0 1em;color:#222}
+constexpr const char* kAtlasStyle = R"(body{font:14px/1.4 system-ui,sans-serif;margin:2em auto;max-width:1500px;padding:0 1em;color:#222}
 h2{border-bottom:2px solid #ddd;padding-top:.5em}.atlases{display:flex;flex-wrap:wrap;gap:14px}
 figure.atlas{margin:0}figure.atlas figcaption{font-size:12px;font-weight:bold}
 .atlas table{border-collapse:collapse}.atlas td{width:14px;height:11px;padding:0;font-size:9px;text-align:center;color:#0ff;font-weight:bold}
@@ -92,7 +92,7 @@ std::vector<StressFinding> stressFindings(const StressRow& row) {
 std::string stressHtml(const std::vector<StressRow>& rows, const StressOptions& o, double seconds) {
   std::ostringstream h;
   h << "<!doctype html>\n<html lang=en>\n<head>\n<meta charset=utf-8>\n<title>oitref stability atlas</title>\n<style>"
-    << kStyle << "</style>\n</head>\n<body>\n<h1>oitref stability atlas</h1>\n<p>Each cell is one parametric scene: n "
+    << kAtlasStyle << "</style>\n</head>\n<body>\n<h1>oitref stability atlas</h1>\n<p>Each cell is one parametric scene: n "
        "full-screen layers (rows) of opacity α (columns), alternating two colours, submitted in a fixed shuffled order, "
        "rendered at " << o.size << "×" << o.size << " pixels with the method and format named above it, and compared with the "
        "exact composite computed in double from the layer list. Colour: the largest error over pixels and RGB, on a log "

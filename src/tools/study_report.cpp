@@ -203,7 +203,7 @@ std::string memoryTable(const StudyResult& result) {
   return o.str() + "</table>\n";
 }
 
-constexpr const char* kStyle = R"(body{font:15px/1.45 system-ui,sans-serif;margin:2em auto;max-width:1300px;padding:0 1em;color:#222}
+constexpr const char* kStudyStyle = R"(body{font:15px/1.45 system-ui,sans-serif;margin:2em auto;max-width:1300px;padding:0 1em;color:#222}
 h1{margin-bottom:.2em}h2{border-bottom:2px solid #ddd;padding-top:.6em}nav a{margin-right:1em}
 table{border-collapse:collapse;margin:.5em 0 1.5em}td,th{border:1px solid #ccc;padding:2px 8px}th{background:#f3f3f3}
 td.n{text-align:right;font-variant-numeric:tabular-nums}tr:hover td{background:#fafae8}
@@ -260,7 +260,7 @@ int thesisBytesPerPixel(const StudyVariant& v) {
 std::string studyHtml(const StudyResult& result) {
   std::map<std::string, int> colours;
   std::ostringstream o;
-  o << "<!doctype html>\n<html lang=en>\n<head>\n<meta charset=utf-8>\n<title>oitref study</title>\n<style>" << kStyle
+  o << "<!doctype html>\n<html lang=en>\n<head>\n<meta charset=utf-8>\n<title>oitref study</title>\n<style>" << kStudyStyle
     << "</style>\n</head>\n<body>\n<h1>oitref study</h1>\n<p>" << result.scenes.size() << " scenes, "
     << (result.scenes.empty() ? 0 : result.scenes[0].rows.size()) << " configurations each, " << result.threads
     << " threads, each time the median of " << result.runs << " runs after one warm-up (every run bit-identical), "
