@@ -83,7 +83,8 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
   for (const char* name : {"rgba16f", "rg16f", "r16f", "rgba32f", "rg32f", "r32f", "rgba8", "rg8", "r8"}) {
     const Format f = parseFormat(name);
     const int bytes = f.bytesPerTexel();
-    for (const Profile& p : {llvmpipeProfile(), parseProfile("llvmpipe,fma=off"), exactProfile()})
+    for (const Profile& p : {llvmpipeProfile(), parseProfile("llvmpipe,fma=off"), exactProfile(),
+                             parseProfile("exact,unorm=fp32"), parseProfile("exact,unorm=nvidia")})
       for (const BlendState& state : states)
         for (bool smallFloatBound : {false, true}) {
           glm::vec4 constant;
@@ -118,7 +119,7 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
           }
         }
   }
-  CHECK(compared == 9 * 3 * int(states.size()) * 2 * 7);
+  CHECK(compared == 9 * 5 * int(states.size()) * 2 * 7);
 }
 
 // llvmpipe's UNORM8 integer blend has two compiled batches per method state: the build's ISA (one

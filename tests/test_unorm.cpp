@@ -69,6 +69,9 @@ TEST_CASE("unorm: clamping, NaN and exact decode round trip", "[unorm]") {
       REQUIRE(v == float(double(k) / double(max)));  // correctly rounded k/(2^b − 1)
       REQUIRE(encodeUnorm(v, b) == k);
       REQUIRE(encodeUnorm(v, b, UnormRounding::Fp32Product) == k);
+      // Every rule encodes a decoded code back to it: MAX on UNORM8 targets blends in the codes
+      // because of it (target_blender.cpp, maxInCodes).
+      if (b <= 12) REQUIRE(encodeUnorm(v, b, UnormRounding::NvidiaFixed) == k);
     }
   }
   // Hand-derived: 0.5·255 = 127.5 -> 128 (even); 0.5·1023 = 511.5 -> 512; 0.5·3 = 1.5 -> 2.

@@ -1,7 +1,9 @@
 #include "blend/target_blender.h"
 
+#include <algorithm>
 #include <array>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 #include "blend/blend_math.h"
@@ -71,6 +73,38 @@ struct Float32Texels {
     }
   }
 };
+
+// Whether a method state is MAX on every channel (the factors are ignored then).
+constexpr bool maxOnEveryChannel(int state) {
+  if (state < 0) return false;  // TargetBlender::kRuntimeState
+  const BlendState& st = states::kMethodBlendStates[state];
+  return st.enabled && st.equationRgb == BlendEquation::Max && st.equationAlpha == BlendEquation::Max;
+}
+
+// MAX on an 8-bit UNORM target, in its codes. The float blend clamps the source (NaN to 0), takes
+// the maximum with the decoded destination and encodes the result. Clamping and encoding are
+// monotone, and every code's decoded value encodes back to that code under each rounding rule
+// (test_unorm checks all 256), so encode(max(clamp(s), decode(k))) = max(encode(clamp(s)), k):
+// one encoding and one integer maximum per channel instead of decode, blend and encode.
+template <int Channels>
+void maxInCodes(UnormRounding rounding, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+  for (int i = 0; i < n; ++i) {
+    const v4i s = encodeUnorm4(load4(*sources[i]), 8, rounding);
+    uint8_t* t = texels[i];
+#if defined(__SSE4_1__)
+    if constexpr (Channels == 4) {  // pack the codes and take the four maxima at once
+      uint8_t codes[4];
+      storeUnorm8Codes<4>(s, codes);
+      uint32_t sc, dc;
+      std::memcpy(&sc, codes, 4), std::memcpy(&dc, t, 4);
+      const int r = _mm_cvtsi128_si32(_mm_max_epu8(_mm_cvtsi32_si128(int(sc)), _mm_cvtsi32_si128(int(dc))));
+      std::memcpy(t, &r, 4);
+      continue;
+    }
+#endif
+    for (int c = 0; c < Channels; ++c) t[c] = uint8_t(std::max<int32_t>(s[c], t[c]));
+  }
+}
 
 }  // namespace
 
@@ -240,6 +274,10 @@ template <typename Texels, int Channels, int State>
 void TargetBlender::fastBatch(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
   if (!enabled<State>(b)) {  // the conversion alone, as fastKernel does then
     for (int i = 0; i < n; ++i) Texels::template store<Channels>(b.profile_, load4(*sources[i]), texels[i]);
+    return;
+  }
+  if constexpr (std::is_same_v<Texels, Unorm8Texels> && maxOnEveryChannel(State)) {
+    maxInCodes<Channels>(b.profile_.unorm, sources, texels, n);
     return;
   }
   int i = 0;
