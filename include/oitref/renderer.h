@@ -52,7 +52,9 @@ struct DrawStats {
 
 struct RendererOptions {
   int threads = 0;      // 0: every hardware thread
-  int tileSize = 64;    // pixels; a power of two from 8 to 256
+  // Pixels, a power of two from 8 to 256; 0 (the default): 64 as llvmpipe, or 32 on a viewport
+  // with fewer than eight tiles of 64 per thread (Renderer::tileSizeFor). Any size, the same bits.
+  int tileSize = 0;
   // Hand fragments to the fragment operations one at a time instead of as row spans with batched
   // blending: the same bits, slower; the oracle of the span path's tests.
   bool perFragment = false;
@@ -67,6 +69,8 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   int threads() const;
+  // The tile size a draw into a width × height viewport uses.
+  int tileSizeFor(int width, int height) const;
   const RendererOptions& options() const { return options_; }
 
   DrawStats draw(Framebuffer& fb, const PipelineState& state, const Geometry& geometry, const FragmentProgram& program);

@@ -113,7 +113,7 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
       throw std::invalid_argument("method '" + m + "' has no GL version (valid: " + valid + ")");
     }
   if (!o.heatmaps.empty()) std::filesystem::create_directories(o.heatmaps);
-  Renderer renderer(RendererOptions{o.threads, 64});
+  Renderer renderer(RendererOptions{.threads = o.threads});
   std::vector<SceneCheckRow> rows;
   for (const std::string& path : o.scenes) {
     Scene scene = loadScene(path);

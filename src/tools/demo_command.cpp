@@ -21,7 +21,7 @@ struct DemoCommandOptions {
 int runDemo(DemoCommandOptions& o) {
   o.demo.profile = parseProfile(o.profile);
   std::filesystem::create_directories(o.out);
-  Renderer renderer(RendererOptions{o.threads, 64});
+  Renderer renderer(RendererOptions{.threads = o.threads});
   const auto t0 = std::chrono::steady_clock::now();
   DemoResult r = renderDemo(renderer, o.demo);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -36,7 +36,7 @@ int runRender(const RenderOptions& o) {
   if (!o.size.empty()) parseSize(o.size, "--size", scene.width, scene.height);
   const Profile profile = parseProfile(o.profile);
   const SceneGeometry geometry = buildSceneGeometry(scene);
-  Renderer renderer(RendererOptions{o.threads, 64});
+  Renderer renderer(RendererOptions{.threads = o.threads});
   const uint64_t limit = memoryLimitFrom(o.memoryLimit);
   checkMemory(*method, scene.width, scene.height, geometry, limit);
   AttachmentPool pool;  // repeated frames reuse their attachments

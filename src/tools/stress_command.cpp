@@ -28,7 +28,7 @@ int runStressCommand(const StressCommandOptions& c) {
   for (int n : kStressLayers)
     if (n <= c.maxLayers) o.layers.push_back(n);
   if (o.layers.empty()) throw std::invalid_argument("--max-layers must be at least 1");
-  Renderer renderer(RendererOptions{c.threads, 64});
+  Renderer renderer(RendererOptions{.threads = c.threads});
   const bool terminal = isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };

@@ -49,7 +49,7 @@ int runStudyCommand(const StudyCommandOptions& c) {
   o.runs = c.runs, o.heatmapScale = c.heatmapScale, o.methods = c.methods;
   o.profile = parseProfile(c.profile);
   o.memoryLimit = memoryLimitFrom(c.memoryLimit);
-  Renderer renderer(RendererOptions{c.threads, 64});
+  Renderer renderer(RendererOptions{.threads = c.threads});
   const StudyResult result = runStudy(o, renderer, progressPrinter(c.quiet));
   if (!c.quiet && isatty(STDERR_FILENO)) std::fputs("\n", stderr);
   const std::filesystem::path dir(c.out);

@@ -37,7 +37,7 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
       int w = 0, h = 0;
       if (!o->size.empty()) parseSize(o->size, "--size", w, h);
       const uint64_t limit = memoryLimitFrom(o->memoryLimit);
-      Renderer renderer(RendererOptions{o->threads, 64});
+      Renderer renderer(RendererOptions{.threads = o->threads});
       const Profile profile = parseProfile(o->profile);
       std::printf("oitref suite: %zu scenes, threads %d, profile %s\n\n", scenes.size(), renderer.threads(), profile.name.c_str());
       for (const std::string& path : scenes) {
@@ -57,7 +57,7 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   ref->add_flag("--write", o->write, "Regenerate the images and the manifest (only on purpose)");
   ref->callback([o, &exitCode] {
     exitCode = runReportingErrors("reference", [&] {
-      Renderer renderer(RendererOptions{o->threads, 64});
+      Renderer renderer(RendererOptions{.threads = o->threads});
       if (o->write) std::filesystem::create_directories(o->dir);
       const auto manifest = o->write ? std::vector<ReferenceEntry>{} : readManifest(o->dir + "/manifest.txt");
       const auto entries = renderReferences(o->scenesDir, renderer, o->dir, o->write);

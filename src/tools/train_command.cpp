@@ -19,7 +19,7 @@ struct TrainOptions {
 int runTrain(const TrainOptions& c) {
   if (c.epochs < 1 || c.epochs > 100000) throw std::invalid_argument("--epochs must be in 1..100000");
   const auto start = std::chrono::steady_clock::now();
-  Renderer renderer(RendererOptions{c.threads, 64});
+  Renderer renderer(RendererOptions{.threads = c.threads});
   const std::vector<DfaoitSample> samples = dfaoitDataset(dfaoitTrainingScenes(), renderer);
   DfaoitTraining o;
   o.epochs = c.epochs;
