@@ -265,6 +265,55 @@ TEST_CASE("moments: the root finders against polynomials with known roots", "[mo
   }
 }
 
+TEST_CASE("moments: the real root finder in four lanes gives the one-at-a-time bits", "[moments]") {
+  // realRootsOfRealRooted4 runs up to four polynomials' Newton stages side by side, each lane
+  // frozen when its own iteration stops; realRootsOfRealRooted is the oracle, bit for bit. The
+  // polynomials: random real roots in [−1, 1] (MBOIT's case), repeated and nearly repeated roots,
+  // random coefficients (complex roots: NaN pairs), huge coefficients, a zero, NaN or infinite
+  // leading coefficient (no roots), in groups of one to four.
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), coefficient(-3.0, 3.0);
+  int compared = 0;
+  for (int n = 1; n <= 4; ++n)
+    for (int group = 0; group < 200; ++group) {
+      const int count = 1 + group % 4;
+      std::array<std::array<double, 5>, 4> polys{};
+      for (int l = 0; l < count; ++l) {
+        std::array<double, 5>& c = polys[size_t(l)];
+        const int kind = int(random() % 6);
+        if (kind == 0) {
+          for (int k = 0; k <= n; ++k) c[size_t(k)] = coefficient(random);
+        } else {
+          double roots[4];
+          for (int i = 0; i < n; ++i) roots[i] = unit(random);
+          if (kind == 1 && n > 1) roots[1] = roots[0];
+          if (kind == 2 && n > 1) roots[1] = roots[0] + 1e-9;
+          c = {1.0};  // Π (x − r_i), expanded
+          for (int i = 0; i < n; ++i) {
+            for (int k = i + 1; k >= 1; --k) c[size_t(k)] = c[size_t(k - 1)] - roots[i] * c[size_t(k)];
+            c[0] = -roots[i] * c[0];
+          }
+          const double scale = kind == 3 ? 1e30 : kind == 4 ? -0.37 : 1.0;
+          for (int k = 0; k <= n; ++k) c[size_t(k)] *= scale;
+          if (kind == 5) c[size_t(group % n)] = group % 2 ? NAN : -INFINITY;  // a lower coefficient not finite
+        }
+        if (group % 37 == 5) c[size_t(n)] = l == 0 ? 0.0 : l == 1 ? NAN : INFINITY;
+      }
+      const double* pointers[4] = {polys[0].data(), polys[1].data(), polys[2].data(), polys[3].data()};
+      mm::RootList<double> lanes[4];
+      mm::realRootsOfRealRooted4(pointers, n, count, lanes);
+      for (int l = 0; l < count; ++l) {
+        const mm::RootList<double> one = mm::realRootsOfRealRooted(pointers[l], n);
+        INFO("degree " << n << " group " << group << " lane " << l);
+        REQUIRE(lanes[l].size() == one.size());
+        for (size_t i = 0; i < one.size(); ++i)
+          CHECK(std::bit_cast<uint64_t>(lanes[l][i]) == std::bit_cast<uint64_t>(one[i]));
+        ++compared;
+      }
+    }
+  CHECK(compared == 4 * (50 * (1 + 2 + 3 + 4)));
+}
+
 TEST_CASE("moments: the lane root finder and trig batch give the one-at-a-time bits", "[moments]") {
   // complexRootsBatch runs four polynomials in vector lanes, refilling a lane when its own
   // converges; complexRoots (scalar) is the oracle, bit for bit. The polynomials: random roots on

@@ -108,6 +108,19 @@ void momentsOf(const MomentSet& set, float z, const WrappingZone& zone, float* o
   for (int k = 0; k < set.count; ++k) out[k] = powers[k];
 }
 
+namespace {
+// Ascending, by insertion (what std::sort does for so few; a NaN pair sends the caller to its
+// fallback whatever its place).
+void sortAscending(RootList<double>& roots) {
+  for (int i = 1; i < roots.count; ++i) {
+    const double v = roots.values[i];
+    int k = i;
+    for (; k > 0 && v < roots.values[k - 1]; --k) roots.values[k] = roots.values[k - 1];
+    roots.values[k] = v;
+  }
+}
+}  // namespace
+
 // Newton's method from above the largest root, which for a real-rooted polynomial decreases
 // monotonically to that root (the polynomial is convex and increasing beyond it); stop when an
 // iterate no longer decreases. Then deflate by synthetic division and repeat; degree 2 by the
@@ -153,15 +166,67 @@ RootList<double> realRootsOfRealRooted(const double* c, int n) {
     }
     for (int k = 0; k < d; ++k) a[k] = q[k];
   }
-  // Ascending, by insertion (what std::sort does for so few; a NaN pair sends the caller to its
-  // fallback whatever its place).
-  for (int i = 1; i < roots.count; ++i) {
-    const double v = roots.values[i];
-    int k = i;
-    for (; k > 0 && v < roots.values[k - 1]; --k) roots.values[k] = roots.values[k - 1];
-    roots.values[k] = v;
-  }
+  sortAscending(roots);
   return roots;
+}
+
+// realRootsOfRealRooted of four polynomials of one degree at once, each lane the scalar
+// operations (so the same bits): each Newton stage runs until every lane has stopped, a stopped
+// lane frozen; the quadratic and the sort per lane.
+void realRootsOfRealRooted4(const double* const* c, int n, int count, RootList<double>* out) {
+  using lanes::d4;
+  using Mask = decltype(d4{} < d4{});
+  d4 a[5] = {};
+  Mask valid{};
+  for (int l = 0; l < count; ++l) {
+    out[l] = {};
+    const double lead = c[l][n];
+    if (!(lead != 0.0) || !std::isfinite(lead)) continue;
+    valid[l] = -1;
+    for (int k = 0; k <= n; ++k) a[k][l] = c[l][k] / lead;
+  }
+  const d4 negativeZero = {-0.0, -0.0, -0.0, -0.0};
+  for (int d = n; d >= 3; --d) {
+    d4 bound{};
+    for (int k = 0; k < d; ++k) {
+      const d4 v = (d4)((Mask)a[k] & ~(Mask)negativeZero);  // fabs: the sign bit cleared
+      bound = bound < v ? v : bound;                       // std::max(bound, v)
+    }
+    d4 x = 1.0 + bound;
+    Mask active = valid;
+    for (int it = 0; it < 500 && (active[0] | active[1] | active[2] | active[3]); ++it) {
+      d4 p = d4{} + 1.0, dp{};
+      for (int k = d - 1; k >= 0; --k) dp = dp * x + p, p = p * x + a[k];
+      const d4 next = x - p / dp;
+      active &= (dp != 0.0) & (next < x);
+      x = active ? next : x;
+    }
+    for (int l = 0; l < count; ++l)
+      if (valid[l]) out[l].push_back(x[l]);
+    // Synthetic division by (x − root), highest first.
+    d4 q[5], carry = d4{} + 1.0;
+    for (int k = d - 1; k >= 0; --k) {
+      q[k] = carry;
+      carry = a[k] + carry * x;
+    }
+    for (int k = 0; k < d; ++k) a[k] = q[k];
+  }
+  for (int l = 0; l < count; ++l) {
+    if (!valid[l]) continue;
+    RootList<double>& roots = out[l];
+    if (n == 1) roots.push_back(-a[0][l]);
+    if (n >= 2) {
+      const double h = 0.5 * a[1][l], disc = h * h - a[0][l];
+      if (!(disc >= 0.0)) {
+        roots.push_back(NAN), roots.push_back(NAN);
+      } else {
+        const double s = h >= 0.0 ? -h - std::sqrt(disc) : -h + std::sqrt(disc);
+        roots.push_back(s);
+        roots.push_back(s != 0.0 ? a[0][l] / s : 0.0);
+      }
+    }
+    sortAscending(roots);
+  }
 }
 
 namespace {
@@ -392,28 +457,29 @@ void interpolate(const T* x, const float* f, int n, T* poly) {
 
 }  // namespace
 
-float powerMomentAbsorbance(int count, const float* b, float z, float bias, const float* biasVector, float overestimation,
-                            bool* fellBack) {
-  if (fellBack) *fellBack = false;
-  auto fallBack = [&] {
-    if (fellBack) *fellBack = true;
-    return overestimation;
-  };
+namespace {
+
+// A fragment's reconstruction from 6 or 8 power moments up to its roots: the biased moments and
+// the polynomial whose real roots are wanted (ok false: the Hankel matrix is not positive
+// definite, the fragment falls back).
+struct PowerProblem {
   float m[9];
+  double polynomial[5];
+  bool ok = false;
+};
+
+PowerProblem powerProblem(int count, const float* b, float z, float bias, const float* biasVector) {
+  PowerProblem t;
+  float* m = t.m;
   m[0] = 1.0f;
   for (int k = 0; k < count; ++k) m[k + 1] = biasedMoment(b[k], bias, biasVector[k]);
-  if (count == 4) {
-    bool ok = true;
-    const float a = fourPowerMomentAbsorbance(m + 1, z, overestimation, ok);
-    return ok && std::isfinite(a) ? a : fallBack();
-  }
   const int n = count / 2;
   // Hankel matrix H_ij = m_{i+j} = L·D·Lᵀ.
   float L[5][5] = {}, D[5];
   for (int j = 0; j <= n; ++j) {
     float d = m[2 * j];
     for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k] * D[k];
-    if (!(d > 0.0f)) return fallBack();
+    if (!(d > 0.0f)) return t;
     D[j] = d;
     for (int i = j + 1; i <= n; ++i) {
       float v = m[i + j];
@@ -430,22 +496,52 @@ float powerMomentAbsorbance(int count, const float* b, float z, float bias, cons
   for (int i = 0; i <= n; ++i) c[i] /= D[i];
   for (int i = n - 1; i >= 0; --i)
     for (int k = i + 1; k <= n; ++k) c[i] -= L[k][i] * c[k];
-  double cd[5];
-  for (int k = 0; k <= n; ++k) cd[k] = c[k];
-  const RootList<double> roots = realRootsOfRealRooted(cd, n);
-  if (int(roots.size()) != n) return fallBack();
+  for (int k = 0; k <= n; ++k) t.polynomial[k] = c[k];
+  t.ok = true;
+  return t;
+}
+
+// The rest, from the roots: the absorbance, or false (fall back) where a root is missing or not
+// finite, or the result is not finite.
+bool powerAbsorbanceFromRoots(const PowerProblem& t, int n, const RootList<double>& roots, float z, float overestimation,
+                              float& absorbance) {
+  if (int(roots.size()) != n) return false;
   float x[5], f[5];
   x[0] = z, f[0] = overestimation;
   for (int i = 0; i < n; ++i) {
     x[i + 1] = float(roots[size_t(i)]);
-    if (!std::isfinite(x[i + 1])) return fallBack();
+    if (!std::isfinite(x[i + 1])) return false;
     f[i + 1] = x[i + 1] < z ? 1.0f : 0.0f;
   }
   float poly[5];
   interpolate(x, f, n, poly);
+  absorbance = 0.0f;
+  for (int k = 0; k <= n; ++k) absorbance += poly[k] * t.m[k];
+  return std::isfinite(absorbance);
+}
+
+}  // namespace
+
+float powerMomentAbsorbance(int count, const float* b, float z, float bias, const float* biasVector, float overestimation,
+                            bool* fellBack) {
+  if (fellBack) *fellBack = false;
+  auto fallBack = [&] {
+    if (fellBack) *fellBack = true;
+    return overestimation;
+  };
+  if (count == 4) {
+    float m[4];
+    for (int k = 0; k < 4; ++k) m[k] = biasedMoment(b[k], bias, biasVector[k]);
+    bool ok = true;
+    const float a = fourPowerMomentAbsorbance(m, z, overestimation, ok);
+    return ok && std::isfinite(a) ? a : fallBack();
+  }
+  const PowerProblem t = powerProblem(count, b, z, bias, biasVector);
+  if (!t.ok) return fallBack();
   float absorbance = 0.0f;
-  for (int k = 0; k <= n; ++k) absorbance += poly[k] * m[k];
-  return std::isfinite(absorbance) ? absorbance : fallBack();
+  return powerAbsorbanceFromRoots(t, count / 2, realRootsOfRealRooted(t.polynomial, count / 2), z, overestimation, absorbance)
+             ? absorbance
+             : fallBack();
 }
 
 void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, const float* biasVector,
@@ -482,6 +578,30 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
       const v8f result = selectF(use, a, splatF<v8f>(overestimation));
       std::memcpy(absorbance + i, &result, sizeof result);
       for (int l = 0; l < 8; ++l) fellBack[i + l] = use[l] == 0;
+    }
+  }
+  if (count != 4) {
+    // 6 and 8 moments: the roots of four fragments' polynomials at once in lanes (the Newton
+    // iterations are a chain of dependent divisions, which one fragment leaves mostly idle).
+    const int roots = count / 2;
+    for (; i < n; i += 4) {
+      const int m = std::min(4, n - i);
+      PowerProblem problems[4];
+      const double* polynomials[4];
+      int solvable[4], s = 0;
+      for (int l = 0; l < m; ++l) {
+        problems[l] = powerProblem(count, b + size_t(i + l) * count, z[i + l], bias, biasVector);
+        if (problems[l].ok) polynomials[s] = problems[l].polynomial, solvable[s++] = l;
+      }
+      RootList<double> found[4];
+      if (s > 0) realRootsOfRealRooted4(polynomials, roots, s, found);
+      for (int l = 0; l < m; ++l) absorbance[i + l] = overestimation, fellBack[i + l] = true;
+      for (int j = 0; j < s; ++j) {
+        const int l = solvable[j];
+        float a = 0.0f;
+        const bool ok = powerAbsorbanceFromRoots(problems[l], roots, found[j], z[i + l], overestimation, a);
+        absorbance[i + l] = ok ? a : overestimation, fellBack[i + l] = !ok;
+      }
     }
   }
   for (; i < n; ++i)

@@ -103,6 +103,9 @@ struct RootList {
   const T* end() const { return values + count; }
 };
 RootList<double> realRootsOfRealRooted(const double* c, int n);
+// realRootsOfRealRooted of `count` ≤ 4 polynomials c[l] of degree n in vector lanes (each lane the
+// scalar operations, so the same bits): out[l].
+void realRootsOfRealRooted4(const double* const* c, int n, int count, RootList<double>* out);
 RootList<std::complex<double>> complexRoots(const std::complex<double>* c, int n);
 // complexRoots of `count` polynomials c[p] of degree n, four at a time in vector lanes (each lane
 // iterates as complexRoots would, so the same bits): roots[p·4 + i].
