@@ -10,6 +10,8 @@
 
 #include <glm/vec4.hpp>
 
+#include "methods/polynomial_roots.h"
+
 namespace oitref::methods {
 
 // A moment set: 4, 6 or 8 power moments of the depth z ∈ [−1, 1] (b1…bN, stored as N reals),
@@ -84,31 +86,5 @@ float trigMomentAbsorbance(int count, const float* b, float z, float bias, float
 // in vector lanes, each lane iterating as it would alone (the same bits).
 void trigMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, float overestimation,
                                const WrappingZone& zone, float* absorbance, bool* fellBack);
-
-// The real roots of a real-rooted polynomial Σ c_k x^k of degree n ≤ 4 (ascending order), and
-// the roots of a complex polynomial of degree n ≤ 4 (any order): deterministic iterations in
-// double (see moment_math.cpp). Exposed for the tests.
-// The roots come in a fixed-capacity list: these run once per fragment, where a heap allocation
-// would cost as much as the iterations.
-template <typename T>
-struct RootList {
-  T values[4];
-  int count = 0;
-  void push_back(const T& v) { values[count++] = v; }
-  size_t size() const { return size_t(count); }
-  const T& operator[](size_t i) const { return values[i]; }
-  T* begin() { return values; }
-  T* end() { return values + count; }
-  const T* begin() const { return values; }
-  const T* end() const { return values + count; }
-};
-RootList<double> realRootsOfRealRooted(const double* c, int n);
-// realRootsOfRealRooted of `count` ≤ 4 polynomials c[l] of degree n in vector lanes (each lane the
-// scalar operations, so the same bits): out[l].
-void realRootsOfRealRooted4(const double* const* c, int n, int count, RootList<double>* out);
-RootList<std::complex<double>> complexRoots(const std::complex<double>* c, int n);
-// complexRoots of `count` polynomials c[p] of degree n, four at a time in vector lanes (each lane
-// iterates as complexRoots would, so the same bits): roots[p·4 + i].
-void complexRootsBatch(const std::complex<double>* const* c, int n, int count, std::complex<double>* roots);
 
 }  // namespace oitref::methods
