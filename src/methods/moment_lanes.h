@@ -52,6 +52,7 @@ inline float selectF(bool m, float a, float b) { return m ? a : b; }
 inline double selectF(bool m, double a, double b) { return m ? a : b; }
 inline v8f selectF(v8i m, v8f a, v8f b) { return m ? a : b; }
 inline lanes::d4 selectF(d4Mask m, lanes::d4 a, lanes::d4 b) { return m ? a : b; }
+inline bool anyLane(bool m) { return m; }
 inline bool anyLane(d4Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 // IEEE square root, per lane.
 inline float sqrtF(float x) { return std::sqrt(x); }

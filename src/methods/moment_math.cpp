@@ -8,7 +8,6 @@
 #include "methods/moment_math.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <stdexcept>
 #include <type_traits>

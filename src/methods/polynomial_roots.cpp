@@ -25,63 +25,88 @@ void sortAscending(RootList<double>& roots) {
 }
 }  // namespace
 
-// Newton's method from above the largest root, which for a real-rooted polynomial decreases
-// monotonically to that root (the polynomial is convex and increasing beyond it); stop when an
-// iterate no longer decreases. Then deflate by synthetic division and repeat; degree 2 by the
-// quadratic formula in its cancellation-free form. NaN roots when the discriminant is negative.
+namespace {
+
+inline double absF(double x) { return std::fabs(x); }
+inline lanes::d4 absF(lanes::d4 x) {  // the sign bits cleared
+  const lanes::d4 negativeZero = {-0.0, -0.0, -0.0, -0.0};
+  return (lanes::d4)((d4Mask)x & ~(d4Mask)negativeZero);
+}
+
+// The largest root of the monic real-rooted polynomial with lower coefficients a (degree d):
+// Newton's method from above it, 1 + max |a_k|, which decreases monotonically to the root (the
+// polynomial is convex and increasing beyond it), until an iterate no longer decreases (or the
+// derivative is 0, or 500 steps). On lanes, each lane stops on its own and keeps its value.
+template <typename T>
+T newtonFromAbove(const T* a, int d, MaskOf<T> active) {
+  T bound = T{} + 0.0;
+  for (int k = 0; k < d; ++k) {
+    const T v = absF(a[k]);
+    bound = selectF(bound < v, v, bound);  // std::max(bound, v)
+  }
+  T x = 1.0 + bound;
+  for (int it = 0; it < 500 && anyLane(active); ++it) {
+    T p = T{} + 1.0, dp = T{} + 0.0;
+    for (int k = d - 1; k >= 0; --k) dp = dp * x + p, p = p * x + a[k];
+    const T next = x - p / dp;
+    active = lanes::both(active, lanes::both(dp != 0.0, next < x));
+    x = selectF(active, next, x);
+  }
+  return x;
+}
+
+// a(x) = (x − r)·q(x): a becomes q, by synthetic division, highest first.
+template <typename T>
+void deflate(T* a, int d, T r) {
+  T q[5], carry = T{} + 1.0;
+  for (int k = d - 1; k >= 0; --k) {
+    q[k] = carry;
+    carry = a[k] + carry * r;
+  }
+  for (int k = 0; k < d; ++k) a[k] = q[k];
+}
+
+// What is left after the Newton stages, degree 1 or 2 (monic, lower coefficients a0, a1): the
+// root, or both roots by the quadratic formula in its cancellation-free form (NaN when the
+// discriminant is negative); then all of them ascending.
+void lastRoots(int degree, double a0, double a1, RootList<double>& roots) {
+  if (degree == 1) roots.push_back(-a0);
+  if (degree == 2) {
+    const double h = 0.5 * a1, disc = h * h - a0;
+    if (!(disc >= 0.0)) {
+      roots.push_back(NAN), roots.push_back(NAN);
+    } else {
+      const double s = h >= 0.0 ? -h - std::sqrt(disc) : -h + std::sqrt(disc);  // the larger |root|
+      roots.push_back(s);
+      roots.push_back(s != 0.0 ? a0 / s : 0.0);
+    }
+  }
+  sortAscending(roots);
+}
+
+}  // namespace
+
+// Newton stages (newtonFromAbove) and deflation down to degree 2, then lastRoots.
 RootList<double> realRootsOfRealRooted(const double* c, int n) {
   RootList<double> roots;
   if (!(c[n] != 0.0) || !std::isfinite(c[n])) return roots;
   double a[5];
   for (int k = 0; k <= n; ++k) a[k] = c[k] / c[n];
-  for (int d = n; d >= 1; --d) {
-    if (d == 1) {
-      roots.push_back(-a[0]);
-      break;
-    }
-    if (d == 2) {
-      const double h = 0.5 * a[1], disc = h * h - a[0];
-      if (!(disc >= 0.0)) {
-        roots.push_back(NAN), roots.push_back(NAN);
-        break;
-      }
-      const double s = h >= 0.0 ? -h - std::sqrt(disc) : -h + std::sqrt(disc);  // the larger |root|
-      roots.push_back(s);
-      roots.push_back(s != 0.0 ? a[0] / s : 0.0);
-      break;
-    }
-    double bound = 0.0;
-    for (int k = 0; k < d; ++k) bound = std::max(bound, std::fabs(a[k]));
-    double x = 1.0 + bound;
-    for (int it = 0; it < 500; ++it) {
-      double p = 1.0, dp = 0.0;
-      for (int k = d - 1; k >= 0; --k) dp = dp * x + p, p = p * x + a[k];
-      if (!(dp != 0.0)) break;
-      const double next = x - p / dp;
-      if (!(next < x)) break;
-      x = next;
-    }
+  for (int d = n; d >= 3; --d) {
+    const double x = newtonFromAbove(a, d, true);
     roots.push_back(x);
-    // a(x) = (x − r)·q(x): q's coefficients by synthetic division, highest first.
-    double q[5], carry = 1.0;
-    for (int k = d - 1; k >= 0; --k) {
-      q[k] = carry;
-      carry = a[k] + carry * x;
-    }
-    for (int k = 0; k < d; ++k) a[k] = q[k];
+    deflate(a, d, x);
   }
-  sortAscending(roots);
+  lastRoots(std::min(n, 2), a[0], a[1], roots);
   return roots;
 }
 
-// realRootsOfRealRooted of four polynomials of one degree at once, each lane the scalar
-// operations (so the same bits): each Newton stage runs until every lane has stopped, a stopped
-// lane frozen; the quadratic and the sort per lane.
+// The same for up to four polynomials of one degree side by side: each Newton stage runs until
+// every lane has stopped, a stopped lane frozen; the last roots per lane.
 void realRootsOfRealRooted4(const double* const* c, int n, int count, RootList<double>* out) {
   using lanes::d4;
-  using Mask = decltype(d4{} < d4{});
   d4 a[5] = {};
-  Mask valid{};
+  d4Mask valid{};
   for (int l = 0; l < count; ++l) {
     out[l] = {};
     const double lead = c[l][n];
@@ -89,52 +114,17 @@ void realRootsOfRealRooted4(const double* const* c, int n, int count, RootList<d
     valid[l] = -1;
     for (int k = 0; k <= n; ++k) a[k][l] = c[l][k] / lead;
   }
-  const d4 negativeZero = {-0.0, -0.0, -0.0, -0.0};
   for (int d = n; d >= 3; --d) {
-    d4 bound{};
-    for (int k = 0; k < d; ++k) {
-      const d4 v = (d4)((Mask)a[k] & ~(Mask)negativeZero);  // fabs: the sign bit cleared
-      bound = bound < v ? v : bound;                       // std::max(bound, v)
-    }
-    d4 x = 1.0 + bound;
-    Mask active = valid;
-    for (int it = 0; it < 500 && (active[0] | active[1] | active[2] | active[3]); ++it) {
-      d4 p = d4{} + 1.0, dp{};
-      for (int k = d - 1; k >= 0; --k) dp = dp * x + p, p = p * x + a[k];
-      const d4 next = x - p / dp;
-      active &= (dp != 0.0) & (next < x);
-      x = active ? next : x;
-    }
+    const d4 x = newtonFromAbove(a, d, valid);
     for (int l = 0; l < count; ++l)
       if (valid[l]) out[l].push_back(x[l]);
-    // Synthetic division by (x − root), highest first.
-    d4 q[5], carry = d4{} + 1.0;
-    for (int k = d - 1; k >= 0; --k) {
-      q[k] = carry;
-      carry = a[k] + carry * x;
-    }
-    for (int k = 0; k < d; ++k) a[k] = q[k];
+    deflate(a, d, x);
   }
-  for (int l = 0; l < count; ++l) {
-    if (!valid[l]) continue;
-    RootList<double>& roots = out[l];
-    if (n == 1) roots.push_back(-a[0][l]);
-    if (n >= 2) {
-      const double h = 0.5 * a[1][l], disc = h * h - a[0][l];
-      if (!(disc >= 0.0)) {
-        roots.push_back(NAN), roots.push_back(NAN);
-      } else {
-        const double s = h >= 0.0 ? -h - std::sqrt(disc) : -h + std::sqrt(disc);
-        roots.push_back(s);
-        roots.push_back(s != 0.0 ? a[0][l] / s : 0.0);
-      }
-    }
-    sortAscending(roots);
-  }
+  for (int l = 0; l < count; ++l)
+    if (valid[l]) lastRoots(std::min(n, 2), a[0][l], a[1][l], out[l]);
 }
 
 namespace {
-
 
 // Aberth–Ehrlich iteration from the points (0.4 + 0.9i)^k, in place (each update uses the newest
 // others): z_i −= w / (1 − w·Σ_{j≠i} 1/(z_i − z_j)) with w = p(z_i)/p'(z_i), until no root moves
