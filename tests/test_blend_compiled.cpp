@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "blend/method_blend_states.h"
@@ -70,8 +71,10 @@ TEST_CASE("blend: kernels compiled for the methods' blend states give the genera
 
 // TargetBlender::blendBatch runs eight lanes at a time — the llvmpipe float model (two rgba, four
 // rg or eight r pixels per call; AVX2), the exact and llvmpipe-UNORM fast kernels (two pixels) —
-// with the pixels left over one at a time: every batch size, the methods' states (compiled
-// kernels) and random states (the general functions), against the per-fragment general kernel.
+// with the pixels left over one at a time: every batch size (past the llvmpipe model's chunk of
+// 64 too), the methods' states (compiled kernels) and random states (the general functions),
+// against the per-fragment general kernel. blendRun, the same pixels as one run of consecutive
+// texels (a group's texels loaded and stored at once), against it too.
 TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "[blend]") {
   test::BitStream rng(77);
   std::vector<BlendState> states(std::begin(detail::states::kMethodBlendStates), std::end(detail::states::kMethodBlendStates));
@@ -91,7 +94,7 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
           for (int k = 0; k < 4; ++k) constant[k] = interesting(rng);
           const detail::TargetBlender batch(f, state, constant, p, true, smallFloatBound);
           const detail::TargetBlender single(f, state, constant, p, false, smallFloatBound);
-          for (int n : {1, 2, 3, 7, 8, 9, 17}) {
+          for (int n : {1, 2, 3, 7, 8, 9, 17, 70}) {
             std::vector<glm::vec4> sources(static_cast<size_t>(n));
             std::vector<uint8_t> batched(size_t(n * bytes)), expected;
             for (glm::vec4& s : sources)
@@ -102,6 +105,7 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
             }
             for (int i = (n * bytes / 4) * 4; i < n * bytes; ++i) batched[size_t(i)] = uint8_t(rng.next());
             expected = batched;
+            std::vector<uint8_t> run = batched;
             std::vector<const glm::vec4*> sourcePointers;
             std::vector<uint8_t*> texels;
             for (int i = 0; i < n; ++i) {
@@ -110,16 +114,18 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
               single.blend(sources[size_t(i)], &expected[size_t(i * bytes)]);
             }
             batch.blendBatch(sourcePointers.data(), texels.data(), n);
+            batch.blendRun(sources.data(), run.data(), n);
             for (int i = 0; i < n; ++i)
-              if (std::memcmp(&batched[size_t(i * bytes)], &expected[size_t(i * bytes)], size_t(bytes)) != 0)
-                FAIL(name << " " << p.describe() << " " << state.describe() << " n " << n << " pixel " << i << ": batch "
-                          << texelBitsToString(f, &batched[size_t(i * bytes)]) << ", per fragment "
-                          << texelBitsToString(f, &expected[size_t(i * bytes)]));
+              for (const auto& [kind, result] : {std::pair{"batch", &batched}, std::pair{"run", &run}})
+                if (std::memcmp(&(*result)[size_t(i * bytes)], &expected[size_t(i * bytes)], size_t(bytes)) != 0)
+                  FAIL(name << " " << p.describe() << " " << state.describe() << " n " << n << " pixel " << i << ": "
+                            << kind << " " << texelBitsToString(f, &(*result)[size_t(i * bytes)]) << ", per fragment "
+                            << texelBitsToString(f, &expected[size_t(i * bytes)]));
             ++compared;
           }
         }
   }
-  CHECK(compared == 9 * 5 * int(states.size()) * 2 * 7);
+  CHECK(compared == 9 * 5 * int(states.size()) * 2 * 8);
 }
 
 // llvmpipe's UNORM8 integer blend has two compiled batches per method state: the build's ISA (one

@@ -338,66 +338,125 @@ v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destina
 #define LP_AVX2 [[gnu::target("avx2")]]
 
 // The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
-// encodeHalfInline), then each pixel's channels stored whole: read lane by lane, the result
-// waited on its own store (store forwarding) and the rounding was tested per channel.
-template <int Channels, bool Half>
-LP_INLINE void storeLanes(uint8_t* const* texels, v8f r, Rounding fp16) {
-  constexpr int P = 8 / Channels;
+// encodeHalfInline) into the bytes of 8 / Channels whole texels, in pixel order: written lane by
+// lane, the result waited on its own store (store forwarding) and the rounding was tested per channel.
+template <bool Half>
+LP_INLINE void encodeLanes(v8f r, Rounding fp16, uint8_t* out) {
   if constexpr (Half) {
-    alignas(16) uint16_t h[8];
 #if defined(OITREF_HAVE_F16C)
     const __m128i packed = fp16 == Rounding::TowardZero
                                ? _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
                                : _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-    _mm_store_si128(reinterpret_cast<__m128i*>(h), packed);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packed);
 #else
-    for (int l = 0; l < 8; ++l) h[l] = encodeHalfInline(r[l], fp16);
+    for (int l = 0; l < 8; ++l) {
+      const uint16_t h = encodeHalfInline(r[l], fp16);
+      std::memcpy(out + 2 * l, &h, 2);
+    }
 #endif
-    for (int p = 0; p < P; ++p) std::memcpy(texels[p], h + p * Channels, 2 * Channels);
   } else {
-    alignas(32) float f[8];
-    std::memcpy(f, &r, sizeof f);
-    for (int p = 0; p < P; ++p) std::memcpy(texels[p], f + p * Channels, 4 * Channels);
+    std::memcpy(out, &r, sizeof r);
   }
 }
-// The sources of 8 / Channels pixels and their destinations `d` into the lanes.
-template <int Channels>
-LP_INLINE void gatherPixels(Lanes8& lanes, const glm::vec4* const* sources, const v4f* d) {
-  constexpr int P = 8 / Channels;
-  v4f s[P];
-  for (int p = 0; p < P; ++p) s[p] = load4(*sources[p]);
-  gatherLanes<Channels>(s, lanes.source, lanes.sourceAlpha);
-  gatherLanes<Channels>(d, lanes.destination, lanes.destinationAlpha);
-}
 
-// Pixels [0, n) blended again with every rare lane's rule applied, from the destinations as they
-// were loaded: blendTexels's rare chunk. One function per layout with the shape read at run time
+// Where the pixels of a batch are. ScatteredPixels: a pointer per pixel to its source and its
+// texel (any pixels). PixelRun: consecutive texels with the sources side by side (a span whose
+// every fragment blends): a group's texels are one load and one store. Both put group g's
+// (pixels g·P … g·P + P − 1, P = 8 / Channels) sources and destinations into lanes as
+// gatherLanes arranges them, and store its results; the lanes are the same either way.
+template <int Channels, bool Half>
+struct ScatteredPixels {
+  static constexpr int P = 8 / Channels;
+  const glm::vec4* const* sources;
+  uint8_t* const* texels;
+  ScatteredPixels from(int i) const { return {sources + i, texels + i}; }  // pixels [i, …)
+  LP_INLINE void loadSources(int i, v8f& values, v8f& alphas) const {
+    v4f s[P];
+    for (int p = 0; p < P; ++p) s[p] = load4(*sources[i + p]);
+    gatherLanes<Channels>(s, values, alphas);
+  }
+  LP_INLINE void loadDestinations(int i, v8f& values, v8f& alphas) const {
+    v4f d[P];
+    for (int p = 0; p < P; ++p)
+      d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
+    gatherLanes<Channels>(d, values, alphas);
+  }
+  LP_INLINE void store(int i, v8f r, Rounding fp16) const {
+    constexpr size_t bytes = (Half ? 2 : 4) * Channels;
+    alignas(32) uint8_t out[8 * (Half ? 2 : 4)];
+    encodeLanes<Half>(r, fp16, out);
+    for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], out + p * bytes, bytes);
+  }
+};
+template <int Channels, bool Half>
+struct PixelRun {
+  static constexpr int P = 8 / Channels;
+  static constexpr size_t kTexelBytes = (Half ? 2 : 4) * Channels;
+  const glm::vec4* sources;
+  uint8_t* texels;
+  PixelRun from(int i) const { return {sources + i, texels + size_t(i) * kTexelBytes}; }
+  LP_INLINE void loadSources(int i, v8f& values, v8f& alphas) const {
+    if constexpr (Channels == 4) {  // two pixels' vec4s are the lanes already
+      std::memcpy(&values, sources + i, sizeof values);
+      alphas = __builtin_shufflevector(values, values, 3, 3, 3, 3, 7, 7, 7, 7);
+    } else {
+      v4f s[P];
+      for (int p = 0; p < P; ++p) s[p] = load4(sources[i + p]);
+      gatherLanes<Channels>(s, values, alphas);
+    }
+  }
+  LP_INLINE void loadDestinations(int i, v8f& values, v8f& alphas) const {
+    const uint8_t* t = texels + size_t(i) * kTexelBytes;
+    if constexpr (Half) {
+#if defined(OITREF_HAVE_F16C)
+      values = (v8f)_mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(t)));
+#else
+      for (int l = 0; l < 8; ++l) {
+        uint16_t h;
+        std::memcpy(&h, t + 2 * l, 2);
+        values[l] = decodeHalfInline(h);
+      }
+#endif
+    } else {
+      std::memcpy(&values, t, sizeof values);
+    }
+    // Each lane's pixel's alpha: lane 3 of a four-channel texel, else the 1 of a target without alpha.
+    if constexpr (Channels == 4) alphas = __builtin_shufflevector(values, values, 3, 3, 3, 3, 7, 7, 7, 7);
+    else alphas = splatLanes<v8f>(1.0f);
+  }
+  LP_INLINE void store(int i, v8f r, Rounding fp16) const {
+    encodeLanes<Half>(r, fp16, texels + size_t(i) * kTexelBytes);
+  }
+};
+
+// Pixels [0, n) blended again with every rare lane's rule applied, from the destinations' lanes
+// as they were loaded: blendTexels's rare chunk. One function per layout with the shape read at run time
 // (the same operations as a shape compiled in, which only folds them), so that each compiled
 // function does not carry a second copy of the blend with the rules' scalar loops (most of this
 // file's compile time). The plan and the constant's lanes come by value: by reference their
 // addresses escaped, and the caller read its compiled shape back from memory after each call
 // instead of folding it (twice as slow).
-template <int Channels, bool Half>
+template <typename Pixels>
 [[gnu::noinline]] LP_AVX2 void blendAgainWithRules(LlvmpipeFloatPlan plan, v8f constant, v8f constantAlpha,
-                                                   const glm::vec4* const* sources, uint8_t* const* texels,
-                                                   const v4f* loaded, int n, Rounding fp16) {
-  constexpr int P = 8 / Channels;
+                                                   Pixels pixels, const v8f* loaded, int n, Rounding fp16) {
   Lanes8 lanes;
   lanes.constant = constant;
   lanes.constantAlpha = constantAlpha;
-  for (int i = 0; i < n; i += P) {
-    gatherPixels<Channels>(lanes, sources + i, loaded + i);
-    storeLanes<Channels, Half>(texels + i, runLanes(plan, lanes, nullptr), fp16);
+  for (int i = 0, g = 0; i < n; i += Pixels::P, g += 2) {
+    pixels.loadSources(i, lanes.source, lanes.sourceAlpha);
+    lanes.destination = loaded[g], lanes.destinationAlpha = loaded[g + 1];
+    pixels.store(i, runLanes(plan, lanes, nullptr), fp16);
   }
 }
 
-// LlvmpipeFloatTexelsFn's loop, inlined into each compiled function. Up to kChunk pixels are
-// blended with the rare lanes' rules deferred (Arith: one test for the chunk instead of one per
-// operation and group); in the rare chunk that has such a lane, every pixel of it is blended
-// again from the destinations as they were loaded, with the rules applied. The same bits either way.
-template <int Channels, bool Half>
-LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
-                          uint8_t* const* texels, int n, Rounding fp16) {
+// LlvmpipeFloatTexelsFn's and LlvmpipeFloatRunFn's loop, inlined into each compiled function. Up
+// to kChunk pixels are blended with the rare lanes' rules deferred (Arith: one test for the chunk
+// instead of one per operation and group); in the rare chunk that has such a lane, every pixel of
+// it is blended again from the destinations as they were loaded, with the rules applied. The
+// same bits either way.
+template <int Channels, bool Half, typename Pixels>
+LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const Pixels& pixels, int n,
+                          Rounding fp16) {
   constexpr int P = 8 / Channels, kChunk = 64;
   Lanes8 lanes;
   const v4f c = load4(constant);
@@ -407,25 +466,29 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
   const int whole = n - n % P;
   for (int chunk = 0; chunk < whole; chunk += kChunk) {
     const int end = chunk + kChunk < whole ? chunk + kChunk : whole;
-    v4f loaded[kChunk];
+    v8f loaded[2 * kChunk / P];  // each group's destination lanes and their alphas
     IntLanesOf<v8f> special{};
-    for (int i = chunk; i < end; i += P) {
-      v4f* d = loaded + (i - chunk);
-      for (int p = 0; p < P; ++p)
-        d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
-      gatherPixels<Channels>(lanes, sources + i, d);
-      storeLanes<Channels, Half>(texels + i, runLanes(plan, lanes, &special), fp16);
+    for (int i = chunk, g = 0; i < end; i += P, g += 2) {
+      pixels.loadDestinations(i, lanes.destination, lanes.destinationAlpha);
+      loaded[g] = lanes.destination, loaded[g + 1] = lanes.destinationAlpha;
+      pixels.loadSources(i, lanes.source, lanes.sourceAlpha);
+      pixels.store(i, runLanes(plan, lanes, &special), fp16);
     }
-    if (Arith<v8f>::any(special))
-      blendAgainWithRules<Channels, Half>(plan, lanes.constant, lanes.constantAlpha, sources + chunk, texels + chunk,
-                                          loaded, end - chunk, fp16);
+    if (Arith<v8f>::any(special)) {
+      blendAgainWithRules(plan, lanes.constant, lanes.constantAlpha, pixels.from(chunk), loaded, end - chunk, fp16);
+    }
   }
   return whole;
 }
 template <int Channels, bool Half>
 LP_AVX2 int generalTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                           uint8_t* const* texels, int n, Rounding fp16) {
-  return blendTexels<Channels, Half>(plan, constant, sources, texels, n, fp16);
+  return blendTexels<Channels, Half>(plan, constant, ScatteredPixels<Channels, Half>{sources, texels}, n, fp16);
+}
+template <int Channels, bool Half>
+LP_AVX2 int generalRun(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
+                       uint8_t* texels, int n, Rounding fp16) {
+  return blendTexels<Channels, Half>(plan, constant, PixelRun<Channels, Half>{sources, texels}, n, fp16);
 }
 
 // `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
@@ -444,7 +507,14 @@ v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destin
 template <LlvmpipeFloatShape Shape, bool Half>
 LP_AVX2 int compiledTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                            uint8_t* const* texels, int n, Rounding fp16) {
-  return blendTexels<Shape.channels, Half>(withShape<Shape>(plan), constant, sources, texels, n, fp16);
+  return blendTexels<Shape.channels, Half>(withShape<Shape>(plan), constant,
+                                           ScatteredPixels<Shape.channels, Half>{sources, texels}, n, fp16);
+}
+template <LlvmpipeFloatShape Shape, bool Half>
+LP_AVX2 int compiledRun(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
+                        uint8_t* texels, int n, Rounding fp16) {
+  return blendTexels<Shape.channels, Half>(withShape<Shape>(plan), constant, PixelRun<Shape.channels, Half>{sources, texels},
+                                           n, fp16);
 }
 
 // One compiled function per method blend state and the float layouts it is drawn into (r, rg: no
@@ -452,7 +522,7 @@ LP_AVX2 int compiledTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& const
 struct CompiledEntry {
   LlvmpipeFloatShape shape;
   LlvmpipeFloatBlendFn fn;
-  LlvmpipeFloatTexelsFn texels[2];  // fp32, fp16
+  LlvmpipeFloatTexelFns texels[2];  // fp32, fp16
 };
 struct StateLayout {
   size_t state = 0;
@@ -474,7 +544,9 @@ constexpr auto kStateLayouts = [] {
 template <StateLayout P>
 constexpr CompiledEntry entry() {
   constexpr LlvmpipeFloatShape shape = llvmpipeFloatShape(P.channels, P.channels == 4, states::kMethodBlendStates[P.state]);
-  return {shape, &compiled<shape>, {&compiledTexels<shape, false>, &compiledTexels<shape, true>}};
+  return {shape,
+          &compiled<shape>,
+          {{&compiledTexels<shape, false>, &compiledRun<shape, false>}, {&compiledTexels<shape, true>, &compiledRun<shape, true>}}};
 }
 template <size_t... J>
 constexpr auto compiledTable(std::index_sequence<J...>) {
@@ -491,17 +563,18 @@ LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool
   return general;
 }
 
-LlvmpipeFloatTexelsFn llvmpipeFloatTexelsFor(const LlvmpipeFloatShape& shape, bool half, bool specialised) {
+LlvmpipeFloatTexelFns llvmpipeFloatTexelsFor(const LlvmpipeFloatShape& shape, bool half, bool specialised) {
 #if defined(__x86_64__)
   static const bool avx2 = __builtin_cpu_supports("avx2");
-  if (!avx2) return nullptr;
+  if (!avx2) return {};
 #endif
   if (specialised)
     for (const CompiledEntry& e : kCompiled)
       if (e.shape == shape) return e.texels[half];
-  constexpr LlvmpipeFloatTexelsFn general[3][2] = {{generalTexels<1, false>, generalTexels<1, true>},
-                                                   {generalTexels<2, false>, generalTexels<2, true>},
-                                                   {generalTexels<4, false>, generalTexels<4, true>}};
+  constexpr LlvmpipeFloatTexelFns general[3][2] = {
+      {{generalTexels<1, false>, generalRun<1, false>}, {generalTexels<1, true>, generalRun<1, true>}},
+      {{generalTexels<2, false>, generalRun<2, false>}, {generalTexels<2, true>, generalRun<2, true>}},
+      {{generalTexels<4, false>, generalRun<4, false>}, {generalTexels<4, true>, generalRun<4, true>}}};
   return general[shape.channels == 4 ? 2 : shape.channels - 1][half];
 }
 

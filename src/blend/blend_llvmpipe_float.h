@@ -62,14 +62,22 @@ using LlvmpipeFloatBlendFn = v4f (*)(const LlvmpipeFloatPlan&, v4f constant, v4f
 // was; the caller blends the rest one at a time. Compiled for AVX2, with the loop inside, so that
 // nothing crosses a call per group; `constant` travels by reference (between code built with
 // and without AVX, a 32-byte vector passed by value would not be where the other side looks).
-using LlvmpipeFloatTexelsFn = int (*)(const LlvmpipeFloatPlan&, const glm::vec4& constant,
+using LlvmpipeFloatTexelsFn = int (*)(const LlvmpipeFloatPlan& plan, const glm::vec4& constant,
                                       const glm::vec4* const* sources, uint8_t* const* texels, int n, Rounding fp16);
+// The same over a run of n consecutive texels starting at `texels`, sources[i] blended into the
+// i-th: each group's texels one load and one store. The same bits.
+using LlvmpipeFloatRunFn = int (*)(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
+                                   uint8_t* texels, int n, Rounding fp16);
+struct LlvmpipeFloatTexelFns {
+  LlvmpipeFloatTexelsFn scattered = nullptr;
+  LlvmpipeFloatRunFn run = nullptr;
+};
 
 // The general function, and one compiled for the plan's shape when it is that of a method blend
 // state (method_blend_states.h), with the same bits; `specialised` false always gives the general one.
 LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool specialised = true);
-// The eight-lane texel function: nullptr where the CPU lacks AVX2 (then blend pixel by pixel).
-LlvmpipeFloatTexelsFn llvmpipeFloatTexelsFor(const LlvmpipeFloatShape& shape, bool half, bool specialised = true);
+// The eight-lane texel functions: null where the CPU lacks AVX2 (then blend pixel by pixel).
+LlvmpipeFloatTexelFns llvmpipeFloatTexelsFor(const LlvmpipeFloatShape& shape, bool half, bool specialised = true);
 
 // The blended value of the texel's channels (fp32, before conversion into the format).
 glm::vec4 blendLlvmpipeFloat(const Format& format, const BlendState& state, const glm::vec4& constant, bool fma,

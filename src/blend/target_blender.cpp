@@ -27,6 +27,7 @@ int methodStateIndex(const BlendState& state) {
 // The fast kernels' texel layouts: how a destination is read into four fp32 lanes and the
 // result written back, as decodeTexel and encodeTexel do for these formats.
 struct Unorm8Texels {
+  static constexpr size_t kChannelBytes = 1;
   static constexpr bool kFixedPoint = true;
   template <int Channels>
   static v4f load(const uint8_t* texel) {
@@ -40,6 +41,7 @@ struct Unorm8Texels {
   }
 };
 struct HalfTexels {
+  static constexpr size_t kChannelBytes = 2;
   static constexpr bool kFixedPoint = false;
   template <int Channels>
   static v4f load(const uint8_t* texel) {
@@ -60,6 +62,7 @@ struct HalfTexels {
   }
 };
 struct Float32Texels {
+  static constexpr size_t kChannelBytes = 4;
   static constexpr bool kFixedPoint = false;
   template <int Channels>
   static v4f load(const uint8_t* texel) {
@@ -74,6 +77,23 @@ struct Float32Texels {
   }
 };
 
+// Where the pixels of a batch are (the fast kernels' loop reads them through one of these):
+// a pointer per pixel to its source and its texel, or a run of consecutive texels of Bytes bytes
+// with the sources side by side (TargetBlender::blendRun).
+struct PixelPointers {
+  const glm::vec4* const* sources;
+  uint8_t* const* texels;
+  const glm::vec4& source(int i) const { return *sources[i]; }
+  uint8_t* texel(int i) const { return texels[i]; }
+};
+template <size_t Bytes>
+struct PixelRun {
+  const glm::vec4* sources;
+  uint8_t* texels;
+  const glm::vec4& source(int i) const { return sources[i]; }
+  uint8_t* texel(int i) const { return texels + size_t(i) * Bytes; }
+};
+
 // Whether a method state is MAX on every channel (the factors are ignored then).
 constexpr bool maxOnEveryChannel(int state) {
   if (state < 0) return false;  // TargetBlender::kRuntimeState
@@ -86,11 +106,11 @@ constexpr bool maxOnEveryChannel(int state) {
 // monotone, and every code's decoded value encodes back to that code under each rounding rule
 // (test_unorm checks all 256), so encode(max(clamp(s), decode(k))) = max(encode(clamp(s)), k):
 // one encoding and one integer maximum per channel instead of decode, blend and encode.
-template <int Channels>
-void maxInCodes(UnormRounding rounding, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+template <int Channels, typename Pixels>
+void maxInCodes(UnormRounding rounding, const Pixels& pixels, int n) {
   for (int i = 0; i < n; ++i) {
-    const v4i s = encodeUnorm4(load4(*sources[i]), 8, rounding);
-    uint8_t* t = texels[i];
+    const v4i s = encodeUnorm4(load4(pixels.source(i)), 8, rounding);
+    uint8_t* t = pixels.texel(i);
 #if defined(__SSE4_1__)
     if constexpr (Channels == 4) {  // pack the codes and take the four maxima at once
       uint8_t codes[4];
@@ -137,7 +157,10 @@ void TargetBlender::useFastKernel(ChannelEncoding encoding, int channels, int st
       static constexpr BatchKernel batches[3][kStates] = {{fastBatch<Texels, 1, int(I) - 1>...},
                                                           {fastBatch<Texels, 2, int(I) - 1>...},
                                                           {fastBatch<Texels, 4, int(I) - 1>...}};
-      kernel_ = kernels[c][s], batchKernel_ = batches[c][s];
+      static constexpr RunKernel runs[3][kStates] = {{fastRun<Texels, 1, int(I) - 1>...},
+                                                     {fastRun<Texels, 2, int(I) - 1>...},
+                                                     {fastRun<Texels, 4, int(I) - 1>...}};
+      kernel_ = kernels[c][s], batchKernel_ = batches[c][s], runKernel_ = runs[c][s];
     };
     if (encoding == ChannelEncoding::Unorm) table.template operator()<Unorm8Texels>();
     else if (encoding == ChannelEncoding::Half) table.template operator()<HalfTexels>();
@@ -152,6 +175,7 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
       rawConstant_(constant), profile_(profile) {
   const unsigned all = (1u << format.channels) - 1;
   mask_ = state.writeMask & all;
+  texelBytes_ = size_t(format.bytesPerTexel());
   flushDenormals_ = !(smallFloatTargetBound || isSmallFloatFormat(format));
   const bool integer = profile.unormBlend == UnormBlend::Integer && format.isUnorm();
   const bool nvidia = format.id != FormatId::Minifloat &&
@@ -164,6 +188,7 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
     unormBatch_ = unormIntegerBatchFor(unormPlan_, allowFastPath);
     kernel_ = integerUnormKernel;
     batchKernel_ = integerUnormBatch;
+    runKernel_ = runThroughBatch;
   } else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) {
     llvmpipePlan_.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
     llvmpipePlan_.flushDenormals = flushDenormals_;
@@ -243,8 +268,24 @@ void TargetBlender::llvmpipeFloatTexelKernel(const TargetBlender& b, const glm::
 template <int Channels, bool Half>
 void TargetBlender::llvmpipeFloatTexelBatch(const TargetBlender& b, const glm::vec4* const* sources,
                                             uint8_t* const* texels, int n) {
-  int i = b.llvmpipeTexels_(b.llvmpipePlan_, b.rawConstant_, sources, texels, n, b.profile_.fp16);
+  int i = b.llvmpipeTexels_.scattered(b.llvmpipePlan_, b.rawConstant_, sources, texels, n, b.profile_.fp16);
   for (; i < n; ++i) llvmpipeFloatTexelKernel<Channels, Half>(b, *sources[i], texels[i]);
+}
+template <int Channels, bool Half>
+void TargetBlender::llvmpipeFloatTexelRun(const TargetBlender& b, const glm::vec4* sources, uint8_t* texels, int n) {
+  int i = b.llvmpipeTexels_.run(b.llvmpipePlan_, b.rawConstant_, sources, texels, n, b.profile_.fp16);
+  for (; i < n; ++i) llvmpipeFloatTexelKernel<Channels, Half>(b, sources[i], texels + size_t(i) * b.texelBytes_);
+}
+
+void TargetBlender::runThroughBatch(const TargetBlender& b, const glm::vec4* sources, uint8_t* texels, int n) {
+  constexpr int kGroup = 64;
+  const glm::vec4* s[kGroup];
+  uint8_t* t[kGroup];
+  for (int start = 0; start < n; start += kGroup) {
+    const int m = std::min(kGroup, n - start);
+    for (int i = 0; i < m; ++i) s[i] = sources + start + i, t[i] = texels + size_t(start + i) * b.texelBytes_;
+    b.batchKernel_(b, s, t, m);
+  }
 }
 
 void TargetBlender::nvidiaKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
@@ -270,28 +311,37 @@ void TargetBlender::fastKernel(const TargetBlender& b, const glm::vec4& source, 
 
 // fastKernel two pixels at a time: blendValues over eight lanes, each lane the operations of
 // the one-pixel kernel (so the same bits); an odd pixel alone.
-template <typename Texels, int Channels, int State>
-void TargetBlender::fastBatch(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+template <typename Texels, int Channels, int State, typename Pixels>
+void TargetBlender::fastPixels(const TargetBlender& b, const Pixels& pixels, int n) {
   if (!enabled<State>(b)) {  // the conversion alone, as fastKernel does then
-    for (int i = 0; i < n; ++i) Texels::template store<Channels>(b.profile_, load4(*sources[i]), texels[i]);
+    for (int i = 0; i < n; ++i) Texels::template store<Channels>(b.profile_, load4(pixels.source(i)), pixels.texel(i));
     return;
   }
   if constexpr (std::is_same_v<Texels, Unorm8Texels> && maxOnEveryChannel(State)) {
-    maxInCodes<Channels>(b.profile_.unorm, sources, texels, n);
+    maxInCodes<Channels>(b.profile_.unorm, pixels, n);
     return;
   }
   int i = 0;
   {
     const v8f constant = twoPixels(load4(b.constant_), load4(b.constant_));
     for (; i + 2 <= n; i += 2) {
-      const v8f s = twoPixels(load4(*sources[i]), load4(*sources[i + 1]));
-      const v8f d = twoPixels(Texels::template load<Channels>(texels[i]), Texels::template load<Channels>(texels[i + 1]));
+      const v8f s = twoPixels(load4(pixels.source(i)), load4(pixels.source(i + 1)));
+      const v8f d = twoPixels(Texels::template load<Channels>(pixels.texel(i)),
+                              Texels::template load<Channels>(pixels.texel(i + 1)));
       const v8f r = blendValues(compiledBlend<State>(b), s, d, constant, Texels::kFixedPoint, Channels == 4);
-      Texels::template store<Channels>(b.profile_, pixelOf(r, 0), texels[i]);
-      Texels::template store<Channels>(b.profile_, pixelOf(r, 1), texels[i + 1]);
+      Texels::template store<Channels>(b.profile_, pixelOf(r, 0), pixels.texel(i));
+      Texels::template store<Channels>(b.profile_, pixelOf(r, 1), pixels.texel(i + 1));
     }
   }
-  for (; i < n; ++i) fastKernel<Texels, Channels, State>(b, *sources[i], texels[i]);
+  for (; i < n; ++i) fastKernel<Texels, Channels, State>(b, pixels.source(i), pixels.texel(i));
+}
+template <typename Texels, int Channels, int State>
+void TargetBlender::fastBatch(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
+  fastPixels<Texels, Channels, State>(b, PixelPointers{sources, texels}, n);
+}
+template <typename Texels, int Channels, int State>
+void TargetBlender::fastRun(const TargetBlender& b, const glm::vec4* sources, uint8_t* texels, int n) {
+  fastPixels<Texels, Channels, State>(b, PixelRun<Channels * Texels::kChannelBytes>{sources, texels}, n);
 }
 
 }  // namespace oitref::detail

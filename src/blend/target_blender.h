@@ -35,18 +35,30 @@ class TargetBlender {
   void blendBatch(const glm::vec4* const* sources, uint8_t* const* texels, int n) const {
     batchKernel_(*this, sources, texels, n);
   }
+  // The same for n consecutive texels of a row from `texels` on, sources[i] into the i-th (a span
+  // whose every fragment blends): no pointer per pixel, and kernels that load and store several
+  // texels at once. The same bits as blendBatch.
+  void blendRun(const glm::vec4* sources, uint8_t* texels, int n) const { runKernel_(*this, sources, texels, n); }
 
  private:
   using Kernel = void (*)(const TargetBlender&, const glm::vec4&, uint8_t*);
   using BatchKernel = void (*)(const TargetBlender&, const glm::vec4* const*, uint8_t* const*, int);
+  using RunKernel = void (*)(const TargetBlender&, const glm::vec4*, uint8_t*, int);
   template <Kernel K>
   static void batchOf(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels, int n) {
     for (int i = 0; i < n; ++i) K(b, *sources[i], texels[i]);
   }
   template <Kernel K>
+  static void runOf(const TargetBlender& b, const glm::vec4* sources, uint8_t* texels, int n) {
+    for (int i = 0; i < n; ++i) K(b, sources[i], texels + size_t(i) * b.texelBytes_);
+  }
+  // A run through the batch kernel, with the pointers it takes.
+  static void runThroughBatch(const TargetBlender& b, const glm::vec4* sources, uint8_t* texels, int n);
+  template <Kernel K>
   void use() {
     kernel_ = K;
     batchKernel_ = batchOf<K>;
+    runKernel_ = runOf<K>;
   }
   // State: kRuntimeState blends with compiled_; an index into kMethodBlendStates, with that state
   // known when the kernel is compiled (its selects fold away; the same bits).
@@ -57,6 +69,11 @@ class TargetBlender {
   static void fastKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <typename Texels, int Channels, int State>
   static void fastBatch(const TargetBlender&, const glm::vec4* const*, uint8_t* const*, int);
+  template <typename Texels, int Channels, int State>
+  static void fastRun(const TargetBlender&, const glm::vec4*, uint8_t*, int);
+  // fastBatch's and fastRun's loop over Pixels (target_blender.cpp: pointers per pixel, or a run).
+  template <typename Texels, int Channels, int State, typename Pixels>
+  static void fastPixels(const TargetBlender&, const Pixels& pixels, int n);
   template <int State> static const CompiledBlend& compiledBlend(const TargetBlender& b);
   template <int State> static bool enabled(const TargetBlender& b);
   // The fast kernel for the format layout, compiled for the state when it is a method blend state.
@@ -69,9 +86,14 @@ class TargetBlender {
   template <int Channels, bool Half>
   static void llvmpipeFloatTexelBatch(const TargetBlender&, const glm::vec4* const*, uint8_t* const*, int);
   template <int Channels, bool Half>
+  static void llvmpipeFloatTexelRun(const TargetBlender&, const glm::vec4*, uint8_t*, int);
+  template <int Channels, bool Half>
   void useLlvmpipeTexel() {
-    kernel_ = llvmpipeFloatTexelKernel<Channels, Half>;
-    batchKernel_ = llvmpipeTexels_ ? llvmpipeFloatTexelBatch<Channels, Half> : batchOf<llvmpipeFloatTexelKernel<Channels, Half>>;
+    use<llvmpipeFloatTexelKernel<Channels, Half>>();
+    if (llvmpipeTexels_.scattered) {
+      batchKernel_ = llvmpipeFloatTexelBatch<Channels, Half>;
+      runKernel_ = llvmpipeFloatTexelRun<Channels, Half>;
+    }
   }
   static void nvidiaKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void maskedOffKernel(const TargetBlender&, const glm::vec4&, uint8_t*) {}
@@ -83,15 +105,17 @@ class TargetBlender {
   glm::vec4 rawConstant_;
   Profile profile_;
   unsigned mask_;
+  size_t texelBytes_;
   bool flushDenormals_;
   LlvmpipeFloatPlan llvmpipePlan_;
   LlvmpipeFloatBlendFn llvmpipeBlend_ = nullptr;
-  LlvmpipeFloatTexelsFn llvmpipeTexels_ = nullptr;
+  LlvmpipeFloatTexelFns llvmpipeTexels_;
   UnormIntegerPlan unormPlan_;
   UnormIntegerBlendFn unormBlend_ = nullptr;
   UnormIntegerBatchFn unormBatch_ = nullptr;
   Kernel kernel_;
   BatchKernel batchKernel_;
+  RunKernel runKernel_;
 };
 
 }  // namespace oitref::detail

@@ -354,6 +354,10 @@ void FragmentStage::blendBatch(int y, int count, const int* xs, const int* index
     const glm::vec4* colors = outputs_.colors(t);
     int n = 0;
     const glm::vec4* const* sources = gathered;
+    if (((writtenByAll >> t) & 1u) && !index && consecutive) {  // a run: the usual case of a span
+      blenders_[size_t(t)].blendRun(colors, row + size_t(xs[0]) * bytes, count);
+      continue;
+    }
     if ((writtenByAll >> t) & 1u) {
       if (index) {
         for (int i = 0; i < count; ++i) gathered[i] = colors + index[i];
