@@ -116,6 +116,42 @@ TEST_CASE("scene: the model matrix is T·Rz·Ry·Rx·S", "[scene]") {
   CHECK(v.z == Approx(28).margin(1e-5));
 }
 
+// Issue 21: a particle cloud's rotation was read and ignored. It turns the cloud's centres about
+// its position (the model matrix, as for meshes); the quads keep facing the camera. Checked against
+// the rotation written out by hand: Rz(90°) maps (x, y, z) to (−y, x, z).
+TEST_CASE("scene: a particle cloud's rotation turns its centres about its position", "[scene]") {
+  Scene scene;
+  SceneObject o;
+  o.type = ObjectType::Particles;
+  o.particleCount = 20;
+  o.seed = 7;
+  o.position = {1.0f, -2.0f, 0.5f};
+  o.scale = 3.0f;
+  scene.objects.push_back(o);
+  o.rotationDegrees = {0.0f, 0.0f, 90.0f};
+  scene.objects.push_back(o);
+  const SceneGeometry g = buildSceneGeometry(scene);
+  REQUIRE(g.parts.size() == 2);
+  const ScenePart &plain = g.parts[0], &turned = g.parts[1];
+  REQUIRE(plain.positions.size() == 80);
+  REQUIRE(turned.positions.size() == 80);
+  int moved = 0;
+  for (size_t q = 0; q < 20; ++q) {
+    glm::dvec3 c0(0.0), c1(0.0);  // the quads' centres
+    for (size_t v = 0; v < 4; ++v) c0 += glm::dvec3(plain.positions[4 * q + v]) / 4.0, c1 += glm::dvec3(turned.positions[4 * q + v]) / 4.0;
+    const glm::dvec3 p = c0 - glm::dvec3(o.position), expected = glm::dvec3(o.position) + glm::dvec3(-p.y, p.x, p.z);
+    CHECK(glm::length(c1 - expected) < 1e-5);
+    moved += glm::length(c1 - c0) > 1e-3;
+    // Each quad is the same billboard, moved: its edges do not turn.
+    for (size_t v = 1; v < 4; ++v) {
+      const glm::dvec3 e0 = glm::dvec3(plain.positions[4 * q + v]) - glm::dvec3(plain.positions[4 * q]);
+      const glm::dvec3 e1 = glm::dvec3(turned.positions[4 * q + v]) - glm::dvec3(turned.positions[4 * q]);
+      CHECK(glm::length(e1 - e0) < 1e-5);
+    }
+  }
+  CHECK(moved == 20);
+}
+
 TEST_CASE("scene: meshes load through Assimp from OBJ, PLY (ascii, binary, colours), glTF and FBX", "[scene]") {
   const std::string obj = write("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
   TriangleMesh m = loadMesh(obj);

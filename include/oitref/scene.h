@@ -8,7 +8,10 @@
 //       {"type":"mesh", "file_path":"meshes/bunny.ply", "color_override":[r,g,b,a],
 //        "position":[x,y,z], "rotation":[x,y,z], "scale":s, "transparent":true},
 //       {"type":"particle", "count":32, "seed":1, "color_override":[r,g,b,a],
-//        "position":[x,y,z], "scale":s, "size":t} ] }
+//        "position":[x,y,z], "rotation":[x,y,z], "scale":s, "size":t} ] }
+//
+// A particle cloud's centres lie in the unit ball placed by the model matrix (so "rotation"
+// turns the cloud about its position); each particle is a square of side "size" facing the camera.
 //
 // Conventions: paths relative to the scene file; rotation in degrees; model matrix
 // T·Rz·Ry·Rx·S; camera glm::lookAt + glm::perspective (right-handed, clip z in [−w, w]); colours

@@ -32,13 +32,18 @@ ScenePart particlePart(const SceneObject& o, const Camera& camera) {
   const glm::dvec3 up = glm::cross(right, forward);
   const double half = 0.5 * double(o.particleSize);
   const glm::vec4 color = o.colorOverride.value_or(glm::vec4(1.0f));
+  // The cloud is placed as a mesh is: its centres, drawn in the unit ball, through the model
+  // matrix (T·Rz·Ry·Rx·S), so `rotation` turns the cloud about `position`. The quads stay
+  // billboards facing the camera. Without a rotation the matrix's products with its zeros and
+  // ones are exact: the centres are position + p·scale, bit for bit as before rotation counted.
+  const glm::dmat4 model(o.modelMatrix());
   util::SeededRandom rng(o.seed);
   for (int i = 0; i < o.particleCount; ++i) {
     glm::dvec3 p;
     do {  // uniform in the unit ball, by rejection
       p = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
     } while (glm::dot(p, p) > 1.0);
-    const glm::dvec3 c = glm::dvec3(o.position) + p * double(o.scale);
+    const glm::dvec3 c = glm::dvec3(model * glm::dvec4(p, 1.0));
     const uint32_t base = uint32_t(part.positions.size());
     pushVertex(part, glm::vec3(c - right * half - up * half), color, {0, 0});
     pushVertex(part, glm::vec3(c + right * half - up * half), color, {1, 0});
