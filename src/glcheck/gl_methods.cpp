@@ -105,13 +105,15 @@ std::string wboitWeight(const std::string& kind) {
          ";\nfloat weight(float alpha, float windowZ, float viewZ) { return " + w.at(kind) + "; }\n";
 }
 
-// weightedResolve (method_common.h): accum.rgb / clamp(accum.a, 1e-4, 5e4), revealage.
-std::string weightedResolveMain() {
+// weightedResolve (method_common.h): accum.rgb / clamp(accum.a, 1e-4, 5e4), revealage; with
+// `clamped` false (wboit clamp=none) accum.rgb / accum.a.
+std::string weightedResolveMain(bool clamped = true) {
+  const std::string divisor = clamped ? "clamp(a.a, " + glslFloat(1e-4f) + ", 50000.0)" : "a.a";
   return R"(
 void main() {
   vec4 a = fetch(accum);
-  vec4 s = vec4(a.rgb / clamp(a.a, )" +
-         glslFloat(1e-4f) + R"(, 50000.0), fetch(reveal).r);
+  vec4 s = vec4(a.rgb / )" +
+         divisor + R"(, fetch(reveal).r);
   o0 = s;
   o1 = s;
 })";
@@ -119,6 +121,8 @@ void main() {
 
 // wboit.cpp: accum += (c·α·w, α·w), reveal *= (1 − α), resolve over the background.
 std::string wboit(GlFrame& f, const MethodOptions& o) {
+  if (o.text("layout") != "mrt")
+    throw std::invalid_argument("glcheck runs wboit with layout=mrt (listing 3) only (got layout=" + o.text("layout") + ")");
   f.opaquePass();
   f.clear("reveal", glm::vec4(1.0f));
   f.clear("accum", glm::vec4(0.0f));
@@ -141,7 +145,7 @@ void main() {
   o1 = vec4(c.a);
 })",
                     {"accum", "reveal"}, "depth", st, inputs);
-  f.blendOverBackground(weightedResolveMain(), {{"accum", "accum"}, {"reveal", "reveal"}});
+  f.blendOverBackground(weightedResolveMain(o.text("clamp") != "none"), {{"accum", "accum"}, {"reveal", "reveal"}});
   return "opaque";
 }
 

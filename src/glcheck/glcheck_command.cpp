@@ -102,6 +102,7 @@ int runBlendCheck(const BlendCheckOptions& o) {
 struct SceneCheckCommand {
   SceneCheckOptions options;
   std::string size = "160x90", methods, memoryLimit, recordTrace, gpuReads;
+  std::vector<std::string> sets;
 };
 
 int runSceneCheckCommand(SceneCheckCommand& c) {
@@ -110,6 +111,7 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
   if (o.scenes.empty()) throw std::invalid_argument("no scenes given and none in ./scenes");
   if (!c.size.empty() && c.size != "scene") tools::parseSize(c.size, "--size", o.width, o.height);
   o.memoryLimit = tools::memoryLimitFrom(c.memoryLimit);
+  o.methodOptions = tools::methodOptionsFrom(c.sets);
   o.methods.clear();
   for (size_t start = 0; start < c.methods.size();) {
     const size_t comma = c.methods.find(',', start);
@@ -192,6 +194,7 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
       "scene", "Scenes rendered by each method's GL version and by oitref; exit 1 when a method is out of tolerance");
   scene->add_option("scenes", s->options.scenes, "Scene files (default: every scenes/*.json)");
   scene->add_option("--methods", s->methods, "Comma-separated methods (default: " + methodList + ")");
+  tools::addMethodSetOption(scene, s->sets);
   scene->add_option("--size", s->size, "Resolution WxH, or 'scene' for the scene's own")->capture_default_str();
   tools::addProfileOption(scene, s->options.profile, "oitref profile to compare with");
   scene->add_option("--tolerance", s->options.tolerance, "Per-pixel error allowed on the RGBA8 image (default 1.5/255: one step passes, two fail)");

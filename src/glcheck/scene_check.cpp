@@ -124,9 +124,9 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
     printHeader(out, sceneName, scene.width, scene.height, profile, o);
     const size_t firstRow = rows.size();
     for (const std::string& name : methodNames) {
-      const std::unique_ptr<Method> method = makeMethod(name);
+      const std::unique_ptr<Method> method = makeMethod(name, o.methodOptions);
       checkMemory(*method, scene.width, scene.height, geometry, o.memoryLimit);
-      const MethodOptions options(method->info(), {});
+      const MethodOptions options(method->info(), o.methodOptions);
       const FrameResult ours = method->render(frame);
       GlFrame gl(context, frame, method->attachments());
       const std::string presentedName = findGlMethod(name)(gl, options);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <iosfwd>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@ namespace oitref::glcheck {
 struct SceneCheckOptions {
   std::vector<std::string> scenes;   // scene files
   std::vector<std::string> methods;  // empty: every method with a GL version
+  std::map<std::string, std::string> methodOptions;  // given to every method checked (--set)
   int width = 0, height = 0;         // 0: the scene's resolution
   std::string profile = "llvmpipe";
   // Why these defaults (docs/rules.md, "glcheck scene"): oitref does not model a driver's

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -181,16 +182,23 @@ class PassRunner {
 // "rgba:e8m7" → "r:e8m7" (a count or revealage beside an accumulation target).
 inline std::string singleChannelFormat(const std::string& rgbaFormat) { return "r" + rgbaFormat.substr(4); }
 
-// S_oit of WBOIT and MBOIT (thesis eq. 2.7 with McGuire–Bavoil listing 3's clamp): the weighted
-// average accum.rgb / clamp(accum.a, 1e-4, 5e4) and, as alpha, the revealage.
-inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal) {
-  return {glm::vec3(accum) / std::clamp(accum.a, 1e-4f, 5e4f), reveal};
+// The bounds of the divisor Σα·w in S_oit. McGuire–Bavoil listing 3 clamps it to [1e-4, 5e4]
+// (the default of WBOIT and MBOIT); thesis eq. 2.7 prints the quotient without a clamp, which
+// bounds of ±∞ give exactly (clamp returns its argument, NaN included).
+struct ResolveClamp {
+  float low = 1e-4f, high = 5e4f;
+  static constexpr ResolveClamp none() { return {-std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()}; }
+};
+// S_oit of WBOIT and MBOIT (thesis eq. 2.7; with McGuire–Bavoil listing 3's clamp by default):
+// the weighted average accum.rgb / clamp(accum.a, low, high) and, as alpha, the revealage.
+inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal, ResolveClamp clamp = {}) {
+  return {glm::vec3(accum) / std::clamp(accum.a, clamp.low, clamp.high), reveal};
 }
-// weightedResolve(accum[i], reveal[i]) for i < n, two fragments at a time in eight vector lanes
-// (the same comparisons and divisions lane for lane; a test holds it to weightedResolve).
-inline void weightedResolveRow(const glm::vec4* accum, const float* reveal, int n, glm::vec4* out) {
+// weightedResolve(accum[i], reveal[i], clamp) for i < n, two fragments at a time in eight vector
+// lanes (the same comparisons and divisions lane for lane; a test holds it to weightedResolve).
+inline void weightedResolveRow(const glm::vec4* accum, const float* reveal, int n, glm::vec4* out, ResolveClamp clamp = {}) {
   typedef float f8 __attribute__((vector_size(32)));
-  const f8 lo = f8{} + 1e-4f, hi = f8{} + 5e4f;
+  const f8 lo = f8{} + clamp.low, hi = f8{} + clamp.high;
   int i = 0;
   for (; i + 2 <= n; i += 2) {
     f8 a;
@@ -201,7 +209,7 @@ inline void weightedResolveRow(const glm::vec4* accum, const float* reveal, int 
     s[3] = reveal[i], s[7] = reveal[i + 1];
     std::memcpy(out + i, &s, sizeof s);
   }
-  for (; i < n; ++i) out[i] = weightedResolve(accum[i], reveal[i]);
+  for (; i < n; ++i) out[i] = weightedResolve(accum[i], reveal[i], clamp);
 }
 
 
@@ -226,9 +234,10 @@ void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accu
                            });
 }
 
-// The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal)
+// The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal, clamp)
 // blended over the background (PassRunner::blendOverBackground).
-void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal);
+void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal,
+                       ResolveClamp clamp = {});
 
 // Bavoil–Myers's weighted average of n layers accumulated as (Σ c·α, Σ α) (n > 0): the average
 // colour Σcα / max(Σα, 1e-4) and, as alpha, the transmittance T = max(0, 1 − Σα/n)^n.

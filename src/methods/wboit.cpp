@@ -3,6 +3,8 @@
 //   reveal *= (1 − α)                 blended ZERO, ONE_MINUS_SRC_COLOR, cleared to 1
 //   composite (accum.rgb / clamp(accum.a, 1e-4, 5e4), reveal) blended into the background with
 //   C_f = C_s·(1 − α_s) + C_d·α_s
+// The clamp is McGuire–Bavoil's (listing 3); thesis eq. 2.7 divides by Σα·w as it is, which
+// clamp=none gives (with the W5 weight and a near layer the two differ by a factor of about two).
 // Weights w(z, α):
 //   thesis W1–W5 on the window depth z ∈ [0,1] (with `adaptive`, z / z_s, z_s the opaque depth
 //   at the pixel): one: 1, z3: 1/z³, z5: 1/z⁵, az3: α/z³, az5: α/z⁵
@@ -81,7 +83,8 @@ class Wboit final : public Method {
  public:
   explicit Wboit(const MethodOptions& o)
       : accumFormat_(o.text("accum")), revealFormat_(o.text("reveal")), weight_(parseWeight(o.text("weight"))),
-        adaptive_(o.flag("adaptive")), single_(o.text("layout") == "single") {}
+        adaptive_(o.flag("adaptive")), single_(o.text("layout") == "single"),
+        clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp{}) {}
   const MethodInfo& info() const override { return wboitInfo(); }
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
@@ -125,7 +128,7 @@ class Wboit final : public Method {
       std::copy_n(out, count, w);
     });
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
-    compositeWeighted(run, t, accum, reveal);
+    compositeWeighted(run, t, accum, reveal, clamp_);
     t.finish(result, "opaque");
     return result;
   }
@@ -154,7 +157,7 @@ class Wboit final : public Method {
     });
     run.blendOverBackground(t, [&](const FragmentInput& in, glm::vec4& s) {
       const glm::vec4 a = accum.fetch(in.x, in.y);
-      s = weightedResolve(glm::vec4(glm::vec3(a), weights.fetch(in.x, in.y).r), a.a);
+      s = weightedResolve(glm::vec4(glm::vec3(a), weights.fetch(in.x, in.y).r), a.a, clamp_);
       return true;
     });
   }
@@ -162,6 +165,7 @@ class Wboit final : public Method {
   std::string accumFormat_, revealFormat_;
   Weight weight_;
   bool adaptive_, single_;
+  ResolveClamp clamp_;
 };
 
 }  // namespace
@@ -177,7 +181,9 @@ const MethodInfo& wboitInfo() {
         {"one", "z3", "z5", "az3", "az5", "mb7", "mb8", "mb9", "mb10"}},
        {"adaptive", "false", "thesis weights on z / z_s, z_s the opaque depth at the pixel", {"true", "false"}},
        {"layout", "mrt", "mrt: listing 3 (per-target blending); single: listing 4 (one blend function, revealage in accum.a)",
-        {"mrt", "single"}}}};
+        {"mrt", "single"}},
+       {"clamp", "mb", "the composite's divisor Σα·w: mb = McGuire–Bavoil listing 3's clamp to [1e-4, 5e4]; none = thesis eq. 2.7 as printed (Σα·w itself; 0 gives inf or NaN, as the GPU's division)",
+        {"mb", "none"}}}};
   return info;
 }
 std::unique_ptr<Method> makeWboit(const MethodOptions& o) { return std::make_unique<Wboit>(o); }

@@ -6,7 +6,10 @@
 #include <cstdint>
 #include <exception>
 #include <iostream>
+#include <map>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "oitref/method.h"
 #include "tools/number_parse.h"
@@ -37,6 +40,21 @@ inline uint64_t memoryLimitFrom(const std::string& text) {
 inline CLI::Option* addProfileOption(CLI::App* cmd, std::string& text, const char* what = "Profile") {
   return cmd->add_option("--profile", text, std::string(what) + ": exact | llvmpipe | nvidia, optionally with ,key=value overrides")
       ->capture_default_str();
+}
+
+// --set key=value (repeatable), as render and glcheck scene take method options: the map that
+// makeMethod and MethodOptions read, which name the method when a key or value is not its own.
+inline void addMethodSetOption(CLI::App* cmd, std::vector<std::string>& sets) {
+  cmd->add_option("--set", sets, "Method option key=value (repeatable)");
+}
+inline std::map<std::string, std::string> methodOptionsFrom(const std::vector<std::string>& sets) {
+  std::map<std::string, std::string> options;
+  for (const std::string& kv : sets) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw std::invalid_argument("--set '" + kv + "': expected key=value");
+    options[kv.substr(0, eq)] = kv.substr(eq + 1);
+  }
+  return options;
 }
 
 void addBlendCommand(CLI::App& app, int& exitCode);

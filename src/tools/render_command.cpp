@@ -24,12 +24,7 @@ struct RenderOptions {
 };
 
 int runRender(const RenderOptions& o) {
-  std::map<std::string, std::string> options;
-  for (const std::string& kv : o.sets) {
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos) throw std::invalid_argument("--set '" + kv + "': expected key=value");
-    options[kv.substr(0, eq)] = kv.substr(eq + 1);
-  }
+  const std::map<std::string, std::string> options = methodOptionsFrom(o.sets);
   std::unique_ptr<Method> method = makeMethod(o.method, options);
   const MethodOptions resolved(method->info(), options);
   Scene scene = loadScene(o.scene);
@@ -97,7 +92,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   CLI::App* cmd = app.add_subcommand("render", "Render a scene with one OIT method");
   cmd->add_option("scene", o->scene, "Scene JSON file")->required();
   cmd->add_option("--method", o->method, "Method (see `oitref methods`)")->capture_default_str();
-  cmd->add_option("--set", o->sets, "Method option key=value (repeatable)");
+  addMethodSetOption(cmd, o->sets);
   cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
   cmd->add_option("--size", o->size, "Override the scene's resolution, WxH");
   addProfileOption(cmd, o->profile);
