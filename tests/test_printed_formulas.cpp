@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "method_fixture.h"
@@ -16,9 +17,14 @@ struct Layer {
   glm::vec4 color;  // straight RGBA
 };
 
-// Full-screen layers (the camera at z = 2 looks down −z) over an opaque background.
-Scene layersAt(const std::vector<Layer>& layers, glm::vec3 background) {
+// Full-screen layers (the camera at z = 2 looks down −z) over an opaque background, and an opaque
+// full-screen quad at `opaqueDistance` when it is positive.
+Scene layersAt(const std::vector<Layer>& layers, glm::vec3 background, double opaqueDistance = 0.0) {
   Scene s = layerScene(4, background);
+  if (opaqueDistance > 0.0) {
+    s.objects.push_back(quad({0.0f, 0.0f, float(2.0 - opaqueDistance)}, 50.0f, glm::vec4(background, 1.0f)));
+    s.objects.back().transparentOverride = false;
+  }
   for (const Layer& l : layers) s.objects.push_back(quad({0.0f, 0.0f, float(2.0 - l.distance)}, 50.0f, l.color));
   return s;
 }
@@ -34,18 +40,20 @@ double windowDepth(const Camera& c, double d) {
 // Rožek's thesis eq. 2.5–2.7 with weight W5 (α/z⁵), as printed: C = Σ c·α·w / Σ α·w (no clamp),
 // T = Π(1 − α), and the pixel C·(1 − T) + C0·T. `clampDivisor` applies McGuire–Bavoil's
 // clamp(Σα·w, 1e-4, 5e4) instead, listing 3's form.
-glm::dvec3 wboitW5(const Scene& s, const std::vector<Layer>& layers, bool clampDivisor) {
+// `opaqueZ`: the thesis's adaptive form, W5 of z / z_s with z_s the opaque surface's depth.
+glm::dvec3 wboitW5(const Scene& s, const std::vector<Layer>& layers, bool clampDivisor, double opaqueZ = 1.0,
+                   double* divisor = nullptr) {
   glm::dvec3 sum(0.0);
   double weights = 0.0, reveal = 1.0;
   for (const Layer& l : layers) {
-    const double a = l.color.a, z = double(float(windowDepth(s.camera, l.distance)));
+    const double a = l.color.a, z = double(float(windowDepth(s.camera, l.distance))) / opaqueZ;
     const double w = a / std::pow(z, 5);
     sum += glm::dvec3(glm::vec3(l.color)) * a * w;
     weights += a * w;
     reveal *= 1.0 - a;
   }
-  const double divisor = clampDivisor ? std::clamp(weights, 1e-4, 5e4) : weights;
-  return sum / divisor * (1.0 - reveal) + glm::dvec3(s.background) * reveal;
+  if (divisor) *divisor = weights;
+  return sum / (clampDivisor ? std::clamp(weights, 1e-4, 5e4) : weights) * (1.0 - reveal) + glm::dvec3(s.background) * reveal;
 }
 
 }  // namespace
@@ -65,6 +73,41 @@ TEST_CASE("printed formulas: WBOIT clamp=none is thesis eq. 2.7, clamp=mb McGuir
     for (int y = 0; y < 4; ++y)
       for (int x = 0; x < 4; ++x) requireClose(f.finalFloat, x, y, want, 64 * kU32 * (1.0 + glm::length(want)), clamped ? "mb" : "none");
   }
+}
+
+// Thesis §2.4: "each of the weight functions can be made adaptive by dividing the distance Z by
+// Z_s". Every weight of a pixel then gains the factor z_s⁵, which cancels in eq. 2.7's quotient:
+// unclamped, adaptive and plain W5 give the same colour up to rounding. With McGuire–Bavoil's
+// clamp they differ where the plain weights pass 5e4 and the adaptive ones do not — near the
+// camera, in front of a near opaque surface (the thesis's fig. 3.12). McGuire–Bavoil's weights
+// have no adaptive form and are refused.
+TEST_CASE("printed formulas: WBOIT adaptive W5 cancels in eq. 2.7 and shows only through the clamp", "[printed]") {
+  const std::vector<Layer> layers = {{0.105, {0.9f, 0.2f, 0.1f, 0.4f}}, {0.11, {0.1f, 0.3f, 0.9f, 0.5f}}};
+  const double opaqueDistance = 0.12;
+  const Scene s = layersAt(layers, {0.5f, 0.5f, 0.5f}, opaqueDistance);
+  const double zs = windowDepth(s.camera, opaqueDistance);
+  double plainDivisor = 0.0, adaptiveDivisor = 0.0;
+  const glm::dvec3 eq27 = wboitW5(s, layers, false, 1.0, &plainDivisor);
+  const glm::dvec3 adaptiveEq27 = wboitW5(s, layers, false, zs, &adaptiveDivisor);
+  const glm::dvec3 clamped = wboitW5(s, layers, true);
+  REQUIRE(plainDivisor > 5e4);                                    // the plain weights are clamped
+  REQUIRE((adaptiveDivisor > 1e-4 && adaptiveDivisor < 5e4));     // the adaptive ones are not
+  REQUIRE(glm::length(eq27 - adaptiveEq27) < 1e-12);              // the cancellation, in double
+  REQUIRE(glm::length(eq27 - clamped) > 0.1);
+  struct Case {
+    const char *adaptive, *clamp;
+    glm::dvec3 want;
+  };
+  for (const Case& c : {Case{"false", "none", eq27}, Case{"true", "none", eq27}, Case{"true", "mb", eq27},
+                        Case{"false", "mb", clamped}}) {
+    const FrameResult f = render(s, "wboit", {{"weight", "az5"}, {"adaptive", c.adaptive}, {"clamp", c.clamp}});
+    const std::string what = std::string("adaptive=") + c.adaptive + " clamp=" + c.clamp;
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x) requireClose(f.finalFloat, x, y, c.want, 64 * kU32 * (1.0 + glm::length(c.want)), what.c_str());
+  }
+  for (const char* weight : {"mb7", "mb8", "mb9", "mb10"})
+    CHECK_THROWS_WITH(render(s, "wboit", {{"weight", weight}, {"adaptive", "true"}}),
+                      Catch::Contains("option 'adaptive'") && Catch::Contains(weight));
 }
 
 }  // namespace oitref::test

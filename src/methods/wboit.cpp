@@ -7,7 +7,11 @@
 // clamp=none gives (with the W5 weight and a near layer the two differ by a factor of about two).
 // Weights w(z, α):
 //   thesis W1–W5 on the window depth z ∈ [0,1] (with `adaptive`, z / z_s, z_s the opaque depth
-//   at the pixel): one: 1, z3: 1/z³, z5: 1/z⁵, az3: α/z³, az5: α/z⁵
+//   at the pixel): one: 1, z3: 1/z³, z5: 1/z⁵, az3: α/z³, az5: α/z⁵. In exact arithmetic
+//   `adaptive` changes nothing: every weight of a pixel gains the factor z_sᵏ, which cancels in
+//   Σc·α·w / Σα·w. It shows only where that quotient is not taken exactly — the clamp of its
+//   divisor (clamp=mb) and the accumulation format's range and rounding — which near the camera,
+//   where 1/z⁵ is large, is what the thesis's fig. 3.12 shows.
 //   McGuire–Bavoil on the view depth |z| (eq. 7–9) or the window depth d (eq. 10):
 //   mb7:  α·clamp(10 / (1e-5 + (|z|/5)² + (|z|/200)⁶), 1e-2, 3e3)
 //   mb8:  α·clamp(10 / (1e-5 + (|z|/10)³ + (|z|/200)⁶), 1e-2, 3e3)
@@ -22,6 +26,7 @@
 // so the revealage lives in accum's alpha, at accum's precision (the `reveal` option does not
 // apply), and the composite is (accum.rgb / clamp(weights, 1e-4, 5e4), accum.a).
 #include <algorithm>
+#include <stdexcept>
 
 #include "methods/method_common.h"
 #include "methods/methods.h"
@@ -84,7 +89,13 @@ class Wboit final : public Method {
   explicit Wboit(const MethodOptions& o)
       : accumFormat_(o.text("accum")), revealFormat_(o.text("reveal")), weight_(parseWeight(o.text("weight"))),
         adaptive_(o.flag("adaptive")), single_(o.text("layout") == "single"),
-        clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp{}) {}
+        clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp{}) {
+    // The thesis makes its own weights W1–W5 adaptive (z / z_s in place of z); McGuire–Bavoil's
+    // eq. 7–10 have no adaptive form (7–9 read the view depth, where z / z_s would mean nothing).
+    if (adaptive_ && weight_ >= Weight::MB7)
+      throw std::invalid_argument("method 'wboit' option 'adaptive': defined for the thesis weights one, z3, z5, az3, az5 only, not " +
+                                  o.text("weight"));
+  }
   const MethodInfo& info() const override { return wboitInfo(); }
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
@@ -179,7 +190,7 @@ const MethodInfo& wboitInfo() {
        {"reveal", "r32f", "revealage format (thesis: R32F; McGuire–Bavoil: R8)", {"r8", "r16f", "r32f"}},
        {"weight", "az5", "w(z, α): thesis W1–W5 (one, z3, z5, az3, az5) or McGuire–Bavoil eq. 7–10 (mb7 … mb10)",
         {"one", "z3", "z5", "az3", "az5", "mb7", "mb8", "mb9", "mb10"}},
-       {"adaptive", "false", "thesis weights on z / z_s, z_s the opaque depth at the pixel", {"true", "false"}},
+       {"adaptive", "false", "thesis weights one…az5 on z / z_s, z_s the opaque depth at the pixel (not for mb7…mb10)", {"true", "false"}},
        {"layout", "mrt", "mrt: listing 3 (per-target blending); single: listing 4 (one blend function, revealage in accum.a)",
         {"mrt", "single"}},
        {"clamp", "mb", "the composite's divisor Σα·w: mb = McGuire–Bavoil listing 3's clamp to [1e-4, 5e4]; none = thesis eq. 2.7 as printed (Σα·w itself; 0 gives inf or NaN, as the GPU's division)",
