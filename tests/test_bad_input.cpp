@@ -4,6 +4,7 @@
 // tests/CMakeLists.txt, label bad_input.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -155,6 +156,42 @@ TEST_CASE("bad input: unknown methods and options suggest the nearest name", "[b
              Catch::Contains("option 'weight': 'mb11' is not one of"));
   CHECK_THAT(errorOf([] { makeMethod("peel", {{"passes", "many"}}); }), Catch::Contains("'many' is not a number"));
   CHECK_THAT(errorOf([] { makeMethod("peel", {{"passes", "0"}}); }), Catch::Contains("passes': must be 1..1024"));
+  CHECK_THAT(errorOf([] { makeMethod("wboit", {{"preset", "thesys"}}); }),
+             Catch::Contains("option 'preset': 'thesys' is not one of none, thesis"));
+  CHECK_THAT(errorOf([] { makeMethod("over", {{"preset", "thesis"}}); }), Catch::Contains("method 'over' has no option 'preset'"));
+}
+
+// A preset's values replace the defaults, and the options given beside it replace those; every
+// preset of every method names only options the method declares, with values among their choices.
+TEST_CASE("methods: presets set options, and options given beside a preset win", "[methods]") {
+  const auto findMethod = [](const std::string& name) {
+    for (const MethodInfo& m : allMethods())
+      if (m.name == name) return m;
+    FAIL("no method " << name);
+    return MethodInfo{};
+  };
+  const MethodOptions plain(findMethod("wboit"), {});
+  CHECK(plain.text("preset") == "none");
+  CHECK(plain.text("clamp") == "mb");
+  const MethodOptions thesis(findMethod("wboit"), {{"preset", "thesis"}});
+  CHECK(thesis.text("clamp") == "none");
+  CHECK(thesis.text("accum") == "rgba32f");
+  const MethodOptions sixteen(findMethod("wboit"), {{"preset", "thesis"}, {"accum", "rgba16f"}});
+  CHECK(sixteen.text("accum") == "rgba16f");
+  CHECK(sixteen.text("clamp") == "none");
+  int presets = 0;
+  for (const MethodInfo& m : allMethods())
+    for (const MethodPreset& p : m.presets) {
+      const MethodOptions o(m, {{"preset", p.name}});
+      for (const auto& [key, value] : p.values) {
+        const auto declared = std::find_if(m.options.begin(), m.options.end(), [&](const MethodOption& d) { return d.key == key; });
+        REQUIRE(declared != m.options.end());
+        CHECK((declared->choices.empty() || std::count(declared->choices.begin(), declared->choices.end(), value) == 1));
+        CHECK(o.text(key) == value);
+      }
+      ++presets;
+    }
+  CHECK(presets >= 4);
 }
 
 TEST_CASE("bad input: memory needs are checked before allocating", "[bad_input]") {

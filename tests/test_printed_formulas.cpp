@@ -56,16 +56,63 @@ glm::dvec3 wboitW5(const Scene& s, const std::vector<Layer>& layers, bool clampD
   return sum / (clampDivisor ? std::clamp(weights, 1e-4, 5e4) : weights) * (1.0 - reveal) + glm::dvec3(s.background) * reveal;
 }
 
+const std::vector<Layer> kThreeLayers = {{0.5, {0.9f, 0.2f, 0.1f, 0.2f}}, {1.0, {0.1f, 0.3f, 0.9f, 0.3f}},
+                                         {1.5, {0.2f, 0.8f, 0.3f, 0.4f}}};
+const glm::vec3 kBackground = {0.5f, 0.45f, 0.4f};
+
+void requireEverywhere(const FrameResult& f, const glm::dvec3& want, double bound, const char* what) {
+  for (int y = 0; y < f.finalFloat.height(); ++y)
+    for (int x = 0; x < f.finalFloat.width(); ++x) requireClose(f.finalFloat, x, y, want, bound, what);
+}
+
 }  // namespace
 
+// Thesis eq. 2.1 / Algorithm 2: C = Σ c·α + C0·(1 − Σα), the sums in RGBA16F (preset=thesis).
+TEST_CASE("printed formulas: weighted sum, preset=thesis, is eq. 2.1", "[printed]") {
+  const Scene s = layersAt(kThreeLayers, kBackground);
+  glm::dvec3 sum(0.0);
+  double alpha = 0.0;
+  for (const Layer& l : kThreeLayers) sum += glm::dvec3(glm::vec3(l.color)) * double(l.color.a), alpha += l.color.a;
+  const glm::dvec3 want = sum + glm::dvec3(kBackground) * (1.0 - alpha);
+  // Each of the three products and sums rounds in fp16 (relative 2^-11); Σα = 0.9.
+  requireEverywhere(render(s, "wsum", {{"preset", "thesis"}}), want, 16 * kU16, "wsum");
+}
+
+// Thesis eq. 2.2–2.4 / Algorithm 3 as printed: C = (Σcα / Σα)·(1 − (Σα/n)^n) + C0·(Σα/n)^n.
+TEST_CASE("printed formulas: weighted average, preset=thesis, is eq. 2.2 as printed", "[printed]") {
+  const Scene s = layersAt(kThreeLayers, kBackground);
+  glm::dvec3 sum(0.0);
+  double alpha = 0.0;
+  for (const Layer& l : kThreeLayers) sum += glm::dvec3(glm::vec3(l.color)) * double(l.color.a), alpha += l.color.a;
+  const double n = double(kThreeLayers.size()), t = std::pow(alpha / n, n);
+  const glm::dvec3 want = sum / alpha * (1.0 - t) + glm::dvec3(kBackground) * t;
+  requireEverywhere(render(s, "wavg", {{"preset", "thesis"}}), want, 64 * kU32, "wavg");
+  // The published transmittance (1 − Σα/n)^n is another image: the preset is not the default.
+  const double published = std::pow(1.0 - alpha / n, n);
+  REQUIRE(std::abs(published - t) > 0.05);
+}
+
+// Thesis Algorithm 1: peeling composites the layers front to back, which is OVER back to front:
+// C = Σ c_i·α_i·Π_{j<i}(1 − α_j) + C0·Π(1 − α_j). C2 and C3 are RGBA8 (preset=thesis), so each
+// layer's (c·α, α) and each accumulation step round to 1/255.
+TEST_CASE("printed formulas: depth peeling, preset=thesis, is the sorted composite within RGBA8 steps", "[printed]") {
+  const Scene s = layersAt(kThreeLayers, kBackground);
+  glm::dvec3 c = glm::dvec3(kBackground);
+  for (auto l = kThreeLayers.rbegin(); l != kThreeLayers.rend(); ++l)  // farthest first
+    c = glm::dvec3(glm::vec3(l->color)) * double(l->color.a) + c * (1.0 - double(l->color.a));
+  const double steps = 2.0 * (double(kThreeLayers.size()) + 1.0);
+  requireEverywhere(render(s, "peel", {{"preset", "thesis"}}), c, steps * 0.5 / 255.0, "peel");
+}
+
 // Issue 21: McGuire–Bavoil's clamp was applied to the thesis's weights too. With a layer near the
-// near plane, W5's Σα·w passes 5e4 and the clamp changes the colour; clamp=none is eq. 2.7.
-TEST_CASE("printed formulas: WBOIT clamp=none is thesis eq. 2.7, clamp=mb McGuire–Bavoil's clamp", "[printed]") {
+// near plane, W5's Σα·w passes 5e4 and the clamp changes the colour; preset=thesis (W5,
+// clamp=none, RGBA32F/R32F) is eq. 2.5–2.7 as printed.
+TEST_CASE("printed formulas: WBOIT preset=thesis is eq. 2.5-2.7, the default McGuire–Bavoil's clamp", "[printed]") {
   const std::vector<Layer> layers = {{0.105, {0.9f, 0.2f, 0.1f, 0.4f}}, {0.8, {0.1f, 0.3f, 0.9f, 0.5f}},
                                      {1.9, {0.2f, 0.8f, 0.3f, 0.6f}}};
   const Scene s = layersAt(layers, {0.5f, 0.5f, 0.5f});
   for (const bool clamped : {false, true}) {
-    const FrameResult f = render(s, "wboit", {{"weight", "az5"}, {"clamp", clamped ? "mb" : "none"}});
+    const FrameResult f = clamped ? render(s, "wboit", {{"weight", "az5"}}) : render(s, "wboit", {{"preset", "thesis"}});
     const glm::dvec3 want = wboitW5(s, layers, clamped), other = wboitW5(s, layers, !clamped);
     // The printed forms differ here by far more than rounding: the test tells them apart.
     REQUIRE(glm::length(want - other) > 0.1);

@@ -39,16 +39,27 @@ struct MethodOption {
   std::vector<std::string> choices;  // empty: free-form (a number, or "auto" where the meaning says so)
 };
 
+// A named configuration of a method's options, e.g. "thesis": the formats, weights and constants a
+// source prints. Given as the option preset=NAME, its values replace the defaults, and the other
+// options given beside it replace those in turn (preset=thesis accum=rgba16f: the thesis's
+// configuration with 16-bit accumulation).
+struct MethodPreset {
+  std::string name, meaning;
+  std::map<std::string, std::string> values;
+};
+
 struct MethodInfo {
   std::string name, summary;
   std::vector<MethodOption> options;
+  std::vector<MethodPreset> presets = {};  // when not empty, the method also takes preset=none|NAME…
 };
 
-// Option values by key ("accum" -> "rgba16f"); every key of the method, defaults filled in.
+// Option values by key ("accum" -> "rgba16f"); every key of the method, defaults filled in (and
+// "preset", "none" unless given, for a method with presets).
 class MethodOptions {
  public:
   // Throws std::invalid_argument for unknown keys (with the nearest valid key) or values outside
-  // the option's choices.
+  // the option's choices, presets included.
   MethodOptions(const MethodInfo& info, const std::map<std::string, std::string>& given);
   const std::string& text(const std::string& key) const;
   double number(const std::string& key) const;  // throws naming the key when not a number

@@ -60,7 +60,7 @@ void main() {
   return "final";
 }
 
-// wavg.cpp: Σ(c·α, α) and n; (Σcα / max(Σα, 1e-4), T) over the background.
+// wavg.cpp: Σ(c·α, α) and n; (Σcα / max(Σα, 1e-4), T) over the background (clamp=none: Σcα / Σα).
 std::string wavg(GlFrame& f, const MethodOptions& o) {
   f.opaquePass();
   f.clear("accum", glm::vec4(0.0f));
@@ -73,6 +73,7 @@ void main() {
 })",
                     {"accum", "count"}, "depth", transparentState(f.context().profile, additiveBlend()));
   const bool thesis = o.text("transmittance") == "thesis_eq2.2";
+  const std::string divisor = o.text("clamp") == "none" ? "a.a" : "max(a.a, " + glslFloat(1e-4f) + ")";
   f.blendOverBackground(std::string(R"(
 void main() {
   float n = fetch(count).r;
@@ -81,7 +82,7 @@ void main() {
   float meanAlpha = a.a / n;
   uint layers = uint(n);
   float tr = )") + (thesis ? "powInt(meanAlpha, layers)" : "powInt(max(0.0, 1.0 - meanAlpha), layers)") + R"(;
-  vec4 s = vec4(a.rgb / max(a.a, )" + glslFloat(1e-4f) + R"(), tr);
+  vec4 s = vec4(a.rgb / )" + divisor + R"(, tr);
   o0 = s;
   o1 = s;
 })",

@@ -185,8 +185,10 @@ inline std::string singleChannelFormat(const std::string& rgbaFormat) { return "
 // The bounds of the divisor Σα·w in S_oit. McGuire–Bavoil listing 3 clamps it to [1e-4, 5e4]
 // (the default of WBOIT and MBOIT); thesis eq. 2.7 prints the quotient without a clamp, which
 // bounds of ±∞ give exactly (clamp returns its argument, NaN included).
+// The weighted average's divisor Σα (wavg) has only the lower bound 1e-4 (atLeast).
 struct ResolveClamp {
   float low = 1e-4f, high = 5e4f;
+  static constexpr ResolveClamp atLeast(float low) { return {low, std::numeric_limits<float>::infinity()}; }
   static constexpr ResolveClamp none() { return {-std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()}; }
 };
 // S_oit of WBOIT and MBOIT (thesis eq. 2.7; with McGuire–Bavoil listing 3's clamp by default):
@@ -240,10 +242,11 @@ void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accu
                        ResolveClamp clamp = {});
 
 // Bavoil–Myers's weighted average of n layers accumulated as (Σ c·α, Σ α) (n > 0): the average
-// colour Σcα / max(Σα, 1e-4) and, as alpha, the transmittance T = max(0, 1 − Σα/n)^n.
-inline glm::vec4 weightedAverageResolve(const glm::vec4& accum, float count) {
+// colour Σcα / max(Σα, 1e-4) (the divisor's bounds: `clamp`; ResolveClamp::none() divides by Σα
+// as thesis eq. 2.3 prints it) and, as alpha, the transmittance T = max(0, 1 − Σα/n)^n.
+inline glm::vec4 weightedAverageResolve(const glm::vec4& accum, float count, ResolveClamp clamp = ResolveClamp::atLeast(1e-4f)) {
   const float meanAlpha = accum.a / count;
-  return {glm::vec3(accum) / std::max(accum.a, 1e-4f), powInt(std::max(0.0f, 1.0f - meanAlpha), unsigned(count))};
+  return {glm::vec3(accum) / std::clamp(accum.a, clamp.low, clamp.high), powInt(std::max(0.0f, 1.0f - meanAlpha), unsigned(count))};
 }
 
 // The blend states of the methods, named once so the emulated passes and their GL mirrors

@@ -45,18 +45,29 @@ int AttachmentDecl::bytesPerTexel() const {
 
 std::string AttachmentDecl::formatName() const { return isDepth ? toString(depthFormat) : format.name(); }
 
+namespace {
+
+// The option preset=none|NAME… of a method with presets, as if it were declared.
+MethodOption presetOption(const MethodInfo& info) {
+  MethodOption o{"preset", "none", "a named configuration of the options above (those given beside it still apply)", {"none"}};
+  for (const MethodPreset& p : info.presets) o.choices.push_back(p.name);
+  return o;
+}
+
+}  // namespace
+
 MethodOptions::MethodOptions(const MethodInfo& info, const std::map<std::string, std::string>& given)
     : method_(info.name) {
+  std::vector<MethodOption> options = info.options;
+  if (!info.presets.empty()) options.push_back(presetOption(info));
   std::vector<std::string> keys;
-  for (const MethodOption& o : info.options) {
+  for (const MethodOption& o : options) {
     values_[o.key] = o.defaultValue;
     keys.push_back(o.key);
   }
-  for (const auto& entry : given) {
-    const std::string& key = entry.first;
-    const std::string& value = entry.second;
-    const auto option = std::find_if(info.options.begin(), info.options.end(), [&](const MethodOption& o) { return o.key == key; });
-    if (option == info.options.end())
+  for (const auto& [key, value] : given) {
+    const auto option = std::find_if(options.begin(), options.end(), [&](const MethodOption& o) { return o.key == key; });
+    if (option == options.end())
       throw std::invalid_argument("method '" + info.name + "' has no option '" + key + "'" + util::didYouMean(key, keys) +
                                   (keys.empty() ? " (it takes none)" : ""));
     if (!option->choices.empty() && std::find(option->choices.begin(), option->choices.end(), value) == option->choices.end()) {
@@ -64,9 +75,15 @@ MethodOptions::MethodOptions(const MethodInfo& info, const std::map<std::string,
       for (const std::string& c : option->choices) valid += (valid.empty() ? "" : ", ") + c;
       throw std::invalid_argument("method '" + info.name + "' option '" + key + "': '" + value + "' is not one of " + valid);
     }
-    values_[key] = value;
   }
-  for (const MethodOption& o : info.options)
+  // The preset's values first, then every option given (the preset's name among them). A preset
+  // names only declared options (at() throws otherwise; the methods test runs every preset).
+  if (const auto chosen = given.find("preset"); chosen != given.end())
+    for (const MethodPreset& p : info.presets)
+      if (p.name == chosen->second)
+        for (const auto& [key, value] : p.values) values_.at(key) = value;
+  for (const auto& [key, value] : given) values_[key] = value;
+  for (const MethodOption& o : options)
     if (o.choices.empty() && values_[o.key] != "auto") number(o.key);  // free-form options are numbers (or "auto"): check now
 }
 

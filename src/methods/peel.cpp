@@ -109,7 +109,8 @@ const MethodInfo& peelInfo() {
                                "front-to-back depth peeling (Everitt; thesis Algorithm 1)",
                                {{"passes", "32", "peeling iterations (the thesis: 32)", {}},
                                 {"layer", "rgba8", "format of the peeled layer and the accumulator (thesis: RGBA8)",
-                                 {"rgba8", "rgba16f", "rgba32f"}}}};
+                                 {"rgba8", "rgba16f", "rgba32f"}}},
+                               {{"thesis", "Algorithm 1 (the default): 32 iterations, RGBA8 C2 and C3", {{"passes", "32"}, {"layer", "rgba8"}}}}};
   return info;
 }
 std::unique_ptr<Method> makePeel(const MethodOptions& o) {

@@ -6,7 +6,8 @@
 // one minus it: one layer of α = 0.9 would show 90 % background, and α = 0 fragments (particle
 // corners) turn black. The thesis's own figures show the published behaviour, so that is the
 // default; transmittance=thesis_eq2.2 evaluates the equation as printed.
-// n = 0: the background. Σα is divided as max(Σα, 1e-4).
+// n = 0: the background. Σα is divided as max(Σα, 1e-4) (clamp=max), or as it is (clamp=none:
+// eq. 2.3 as printed; a pixel whose layers all have α = 0 then divides 0 by 0).
 #include <algorithm>
 
 #include "methods/method_common.h"
@@ -19,7 +20,8 @@ namespace {
 class Wavg final : public Method {
  public:
   explicit Wavg(const MethodOptions& o)
-      : accumFormat_(o.text("accum")), thesis_(o.text("transmittance") == "thesis_eq2.2") {}
+      : accumFormat_(o.text("accum")), thesis_(o.text("transmittance") == "thesis_eq2.2"),
+        clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp::atLeast(1e-4f)) {}
   const MethodInfo& info() const override { return wavgInfo(); }
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
@@ -47,11 +49,12 @@ class Wavg final : public Method {
     });
     // Steps 10–11: blend (avg, T) into C1 with C_f = C_s·(1 − α_s) + C_d·α_s.
     const bool thesis = thesis_;
-    run.blendOverBackground(t, [&, thesis](const FragmentInput& in, glm::vec4& s) {
+    const ResolveClamp clamp = clamp_;
+    run.blendOverBackground(t, [&, thesis, clamp](const FragmentInput& in, glm::vec4& s) {
       const float n = count.fetch(in.x, in.y).r;
       if (n == 0.0f) return false;  // no transparent layer: the background stays
       const glm::vec4 a = accum.fetch(in.x, in.y);
-      s = weightedAverageResolve(a, n);
+      s = weightedAverageResolve(a, n, clamp);
       if (thesis) s.a = powInt(a.a / n, unsigned(n));  // eq. 2.2 as printed: (Σα/n)^n
       return true;
     });
@@ -62,6 +65,7 @@ class Wavg final : public Method {
  private:
   std::string accumFormat_;
   bool thesis_;
+  ResolveClamp clamp_;
 };
 
 }  // namespace
@@ -76,7 +80,10 @@ const MethodInfo& wavgInfo() {
        {"transmittance", "bavoil_myers",
         "background weight: (1 − Σα/n)^n as published (and as the thesis's figures show), or (Σα/n)^n as "
         "the thesis's eq. 2.2 prints it",
-        {"bavoil_myers", "thesis_eq2.2"}}}};
+        {"bavoil_myers", "thesis_eq2.2"}},
+       {"clamp", "max", "the average's divisor: max(Σα, 1e-4), or Σα itself as eq. 2.3 prints it (none)", {"max", "none"}}},
+      {{"thesis", "Algorithm 3 as printed: C2q RGBA32F and C2s R32F (the thesis also ran 16F), eq. 2.2–2.3's transmittance and quotient",
+        {{"accum", "rgba32f"}, {"transmittance", "thesis_eq2.2"}, {"clamp", "none"}}}}};
   return info;
 }
 std::unique_ptr<Method> makeWavg(const MethodOptions& o) { return std::make_unique<Wavg>(o); }

@@ -194,7 +194,9 @@ const MethodInfo& wboitInfo() {
        {"layout", "mrt", "mrt: listing 3 (per-target blending); single: listing 4 (one blend function, revealage in accum.a)",
         {"mrt", "single"}},
        {"clamp", "mb", "the composite's divisor Σα·w: mb = McGuire–Bavoil listing 3's clamp to [1e-4, 5e4]; none = thesis eq. 2.7 as printed (Σα·w itself; 0 gives inf or NaN, as the GPU's division)",
-        {"mb", "none"}}}};
+        {"mb", "none"}}},
+      {{"thesis", "Algorithm 4 as printed: C2q RGBA32F, C2s R32F, W5 (the thesis's figures' weight), eq. 2.7 without a clamp",
+        {{"accum", "rgba32f"}, {"reveal", "r32f"}, {"weight", "az5"}, {"adaptive", "false"}, {"layout", "mrt"}, {"clamp", "none"}}}}};
   return info;
 }
 std::unique_ptr<Method> makeWboit(const MethodOptions& o) { return std::make_unique<Wboit>(o); }

@@ -65,7 +65,8 @@ class Wsum final : public Method {
 const MethodInfo& wsumInfo() {
   static const MethodInfo info{"wsum",
                                "weighted sum (Meshkin; thesis Algorithm 2): C = Σc·α + C0·(1 − Σα)",
-                               {{"accum", "rgba16f", "accumulation target format (bfloat16 = rgba:e8m7, fp8 = rgba:e5m2)", {"rgba16f", "rgba32f", "rgba:e8m7", "rgba:e5m2"}}}};
+                               {{"accum", "rgba16f", "accumulation target format (bfloat16 = rgba:e8m7, fp8 = rgba:e5m2)", {"rgba16f", "rgba32f", "rgba:e8m7", "rgba:e5m2"}}},
+                               {{"thesis", "Algorithm 2 (the default): C2 RGBA16F, the composite into an RGBA8 C3", {{"accum", "rgba16f"}}}}};
   return info;
 }
 std::unique_ptr<Method> makeWsum(const MethodOptions& o) { return std::make_unique<Wsum>(o); }

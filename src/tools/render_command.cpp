@@ -119,6 +119,14 @@ void addMethodsCommand(CLI::App& app, int& exitCode) {
         std::printf("    %s=%s  %s%s\n", opt.key.c_str(), opt.defaultValue.c_str(), opt.meaning.c_str(),
                     choices.empty() ? "" : ("  [" + choices + "]").c_str());
       }
+      std::string presets = "none";
+      for (const MethodPreset& p : m.presets) presets += "|" + p.name;
+      if (!m.presets.empty()) std::printf("    preset=none  [%s], the options given beside it still apply:\n", presets.c_str());
+      for (const MethodPreset& p : m.presets) {
+        std::string values;
+        for (const auto& [key, value] : p.values) values += " " + key + "=" + value;
+        std::printf("      preset=%s: %s;%s\n", p.name.c_str(), p.meaning.c_str(), values.c_str());
+      }
     }
     exitCode = 0;
   });
