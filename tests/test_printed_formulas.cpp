@@ -3,8 +3,10 @@
 // fragment's depth derived here from the camera (not taken from oitref's A-buffer or helpers).
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "method_fixture.h"
@@ -102,6 +104,78 @@ TEST_CASE("printed formulas: depth peeling, preset=thesis, is the sorted composi
     c = glm::dvec3(glm::vec3(l->color)) * double(l->color.a) + c * (1.0 - double(l->color.a));
   const double steps = 2.0 * (double(kThreeLayers.size()) + 1.0);
   requireEverywhere(render(s, "peel", {{"preset", "thesis"}}), c, steps * 0.5 / 255.0, "peel");
+}
+
+namespace {
+
+// Thesis Algorithm 5 (Hamburger4MSM) as printed, in double, with bias 0 (b' = b): solve the Hankel
+// system for c, the roots z2 ≤ z3 of c3·z² + c2·z + c1, and the three cases of lines 4–6.
+double hamburger4Msm(const std::array<double, 4>& b, double zf) {
+  // Cholesky of [[1, b1, b2], [b1, b2, b3], [b2, b3, b4]] (b1 = b[0] …), then L·Lᵀ·c = (1, zf, zf²).
+  const double a[3][3] = {{1.0, b[0], b[1]}, {b[0], b[1], b[2]}, {b[1], b[2], b[3]}};
+  double l[3][3] = {};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double sum = a[i][j];
+      for (int k = 0; k < j; ++k) sum -= l[i][k] * l[j][k];
+      l[i][j] = i == j ? std::sqrt(sum) : sum / l[j][j];
+    }
+  const double rhs[3] = {1.0, zf, zf * zf};
+  double y[3], c[3];
+  for (int i = 0; i < 3; ++i) {
+    double sum = rhs[i];
+    for (int k = 0; k < i; ++k) sum -= l[i][k] * y[k];
+    y[i] = sum / l[i][i];
+  }
+  for (int i = 2; i >= 0; --i) {
+    double sum = y[i];
+    for (int k = i + 1; k < 3; ++k) sum -= l[k][i] * c[k];
+    c[i] = sum / l[i][i];
+  }
+  const double disc = std::sqrt(c[1] * c[1] - 4.0 * c[2] * c[0]);
+  double z2 = (-c[1] - disc) / (2.0 * c[2]), z3 = (-c[1] + disc) / (2.0 * c[2]);
+  if (z2 > z3) std::swap(z2, z3);
+  if (zf <= z2) return 0.0;
+  if (zf <= z3) return (zf * z3 - b[0] * (zf + z3) + b[1]) / ((z3 - z2) * (zf - z2));
+  return 1.0 - (z2 * z3 - b[0] * (z2 + z3) + b[1]) / ((zf - z2) * (zf - z3));
+}
+
+}  // namespace
+
+// Thesis Algorithm 6 with eq. 2.8–2.11 as printed (preset=thesis): S_moment adds
+// A·(z, z², z³, z⁴) and A = −ln(1 − α) for depths z in [0, 1]; S_weight is
+// exp(−Hamburger4MSM(M/S, z, 0)·S), unclamped; the composite is eq. 2.9 with eq. 2.7. Layers spread
+// over [0.17, 0.8] in depth, where the fp32 Hankel system is well conditioned (near 1, where most
+// of a perspective depth range crowds, it is not: docs/rules.md).
+TEST_CASE("printed formulas: MBOIT preset=thesis is Algorithms 5-6 with eq. 2.8-2.11", "[printed]") {
+  const std::vector<Layer> layers = {{0.12, {0.9f, 0.2f, 0.1f, 0.3f}}, {0.2, {0.1f, 0.3f, 0.9f, 0.5f}},
+                                     {0.5, {0.2f, 0.8f, 0.3f, 0.4f}}};
+  const Scene s = layersAt(layers, kBackground);
+  std::vector<double> z, absorbance;
+  double total = 0.0;
+  std::array<double, 4> moments{};
+  for (const Layer& l : layers) {
+    z.push_back(double(float(windowDepth(s.camera, l.distance))));
+    absorbance.push_back(-std::log(1.0 - double(l.color.a)));
+    total += absorbance.back();
+    for (int k = 0; k < 4; ++k) moments[size_t(k)] += absorbance.back() * std::pow(z.back(), k + 1);
+  }
+  for (double& m : moments) m /= total;
+  glm::dvec3 sum(0.0);
+  double weights = 0.0, reveal = 1.0;
+  for (size_t i = 0; i < layers.size(); ++i) {
+    const double a = layers[i].color.a, w = std::exp(-hamburger4Msm(moments, z[i]) * total);
+    sum += glm::dvec3(glm::vec3(layers[i].color)) * a * w;
+    weights += a * w;
+    reveal *= 1.0 - a;
+  }
+  const glm::dvec3 want = sum / weights * (1.0 - reveal) + glm::dvec3(kBackground) * reveal;
+  // The default (biased moments, overestimation 0.25, depths in [−1, 1]) is another image.
+  const FrameResult thesis = render(s, "mboit", {{"preset", "thesis"}}), plain = render(s, "mboit");
+  REQUIRE(std::abs(double(plain.finalFloat.fetch(0, 0).r) - want.r) > 0.01);
+  // fp32 moments and reconstruction: the absorbance within 1.3e-5 of exact (tests/test_moments.cpp's
+  // bound), so each weight within about 2e-5 relative for S ≈ 1.6, the average within 4e-5; 1e-4.
+  requireEverywhere(thesis, want, 1e-4, "mboit thesis");
 }
 
 // Issue 21: McGuire–Bavoil's clamp was applied to the thesis's weights too. With a layer near the

@@ -60,6 +60,13 @@ void main() {
   return "final";
 }
 
+// ResolveClamp::average (method_common.h) in GLSL: sum / clampedDivisor, or unclamped (an empty
+// clampedDivisor) sum / divisor with 0 where the divisor is 0.
+std::string averageOf(const std::string& sum, const std::string& divisor, const std::string& clampedDivisor) {
+  if (!clampedDivisor.empty()) return sum + " / " + clampedDivisor;
+  return "(" + divisor + " == 0.0 ? vec3(0.0) : " + sum + " / " + divisor + ")";
+}
+
 // wavg.cpp: Σ(c·α, α) and n; (Σcα / max(Σα, 1e-4), T) over the background (clamp=none: Σcα / Σα).
 std::string wavg(GlFrame& f, const MethodOptions& o) {
   f.opaquePass();
@@ -73,7 +80,7 @@ void main() {
 })",
                     {"accum", "count"}, "depth", transparentState(f.context().profile, additiveBlend()));
   const bool thesis = o.text("transmittance") == "thesis_eq2.2";
-  const std::string divisor = o.text("clamp") == "none" ? "a.a" : "max(a.a, " + glslFloat(1e-4f) + ")";
+  const std::string average = averageOf("a.rgb", "a.a", o.text("clamp") != "none" ? "max(a.a, " + glslFloat(1e-4f) + ")" : "");
   f.blendOverBackground(std::string(R"(
 void main() {
   float n = fetch(count).r;
@@ -82,7 +89,7 @@ void main() {
   float meanAlpha = a.a / n;
   uint layers = uint(n);
   float tr = )") + (thesis ? "powInt(meanAlpha, layers)" : "powInt(max(0.0, 1.0 - meanAlpha), layers)") + R"(;
-  vec4 s = vec4(a.rgb / )" + divisor + R"(, tr);
+  vec4 s = vec4()" + average + R"(, tr);
   o0 = s;
   o1 = s;
 })",
@@ -107,14 +114,13 @@ std::string wboitWeight(const std::string& kind) {
 }
 
 // weightedResolve (method_common.h): accum.rgb / clamp(accum.a, 1e-4, 5e4), revealage; with
-// `clamped` false (wboit clamp=none) accum.rgb / accum.a.
+// `clamped` false (clamp=none) accum.rgb / accum.a, 0 where accum.a is 0.
 std::string weightedResolveMain(bool clamped = true) {
-  const std::string divisor = clamped ? "clamp(a.a, " + glslFloat(1e-4f) + ", 50000.0)" : "a.a";
   return R"(
 void main() {
   vec4 a = fetch(accum);
-  vec4 s = vec4(a.rgb / )" +
-         divisor + R"(, fetch(reveal).r);
+  vec4 s = vec4()" +
+         averageOf("a.rgb", "a.a", clamped ? "clamp(a.a, " + glslFloat(1e-4f) + ", 50000.0)" : "") + R"(, fetch(reveal).r);
   o0 = s;
   o1 = s;
 })";
@@ -157,17 +163,18 @@ std::string mboitFunctions(const MethodOptions& o, const Camera& camera) {
   if (o.text("moments") != "power4" || o.text("storage") != "float")
     throw std::invalid_argument("glcheck runs mboit with moments=power4 storage=float only (got moments=" +
                                 o.text("moments") + " storage=" + o.text("storage") + ")");
-  const bool logWarp = o.text("warp") == "log";
+  const bool logWarp = o.text("warp") == "log", unitDepth = o.text("warp") == "unit";
   const float bias = o.text("bias") == "auto" ? 5e-7f : float(o.number("bias"));  // power4's published β
   const float logRange = float(methods::detLog(double(camera.farPlane) / double(camera.nearPlane)));
   return "const float BIAS = " + glslFloat(bias) + ", OVERESTIMATION = " +
          glslFloat(float(o.number("overestimation"))) + ", NEAR = " + glslFloat(camera.nearPlane) +
          ", LOG_RANGE = " + glslFloat(logRange) + ", ALPHA_MAX = " + glslFloat(1.0f - 0x1p-20f) + ";\n" +
-         (logWarp ? "float warp() { return 2.0 * log(viewDepth() / NEAR) / LOG_RANGE - 1.0; }\n"
-                  : "float warp() { return 2.0 * windowDepth() - 1.0; }\n") +
-         R"(
+         (logWarp     ? "float warp() { return 2.0 * log(viewDepth() / NEAR) / LOG_RANGE - 1.0; }\n"
+          : unitDepth ? "float warp() { return windowDepth(); }\n"
+                      : "float warp() { return 2.0 * windowDepth() - 1.0; }\n") +
+         "const vec4 BIAS_VECTOR = " + (unitDepth ? "vec4(0.5)" : "vec4(0.0, 0.375, 0.0, 0.375)") + ";\n" + R"(
 float absorbance(vec4 b, float z) {
-  vec4 m = (1.0 - BIAS) * b + BIAS * vec4(0.0, 0.375, 0.0, 0.375);
+  vec4 m = (1.0 - BIAS) * b + BIAS * BIAS_VECTOR;
   float d11 = m[1] - m[0] * m[0];
   float l21d11 = m[2] - m[0] * m[1];
   if (!(d11 > 0.0)) return OVERESTIMATION;
@@ -225,13 +232,13 @@ void main() {
   float w = 1.0;
   if (b0 >= )" + glslFloat(0.00100050033f) + R"() {
     vec4 m = fetch(momentMap) / b0;
-    w = clamp(exp(-b0 * absorbance(m, warp())), 0.0, 1.0);
+    w = )" + std::string(o.text("saturate") == "none" ? "exp(-b0 * absorbance(m, warp()))" : "clamp(exp(-b0 * absorbance(m, warp())), 0.0, 1.0)") + R"(;
   }
   o0 = vec4(c.rgb * c.a * w, c.a * w);
   o1 = vec4(c.a);
 })",
                     {"accum", "reveal"}, "depth", st, {{"b0Map", "b0"}, {"momentMap", "moments"}});
-  f.blendOverBackground(weightedResolveMain(), {{"accum", "accum"}, {"reveal", "reveal"}});
+  f.blendOverBackground(weightedResolveMain(o.text("clamp") != "none"), {{"accum", "accum"}, {"reveal", "reveal"}});
   return "opaque";
 }
 

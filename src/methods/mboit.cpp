@@ -14,17 +14,20 @@
 // roots give the reconstructed depth distribution, weighted 1 in front of z, `overestimation`
 // at z, 0 behind (moment_math.cpp).
 // Depth z in [−1, 1]: warp=linear uses 2·d − 1 (d the window depth); warp=log uses
-// 2·ln(v/near)/ln(far/near) − 1 (v the view depth), so the bias vectors fit both.
+// 2·ln(v/near)/ln(far/near) − 1 (v the view depth), so the bias vectors fit both. warp=unit is
+// the thesis's z = d in [0, 1], with Algorithm 5's bias vector (0.5, 0.5, 0.5, 0.5).
 // Guards: α is clamped to 1 − 2^-20 (α = 1 would make A infinite); fragments with A below
 // 1e-7 add no moments; in pass 2 a pixel with b0 < 0.00100050033 (its layers are all nearly
 // clear) uses w = 1; moments that cannot be used fall back to absorbance = overestimation (the
 // fragment's own layer), counted in the fact "moment reconstructions that fell back".
-// Power moments clamp T to [0, 1] (saturate), trigonometric ones do not, as in the paper's code.
+// Power moments clamp T to [0, 1] (saturate), trigonometric ones do not, as in the paper's code;
+// saturate=none never clamps (thesis eq. 2.11). preset=thesis: Algorithms 5–6 as printed.
 // ln, exp, sin and cos are det_math.h's, so the weights are the same bits on every machine.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "methods/det_math.h"
 #include "methods/method_common.h"
@@ -66,7 +69,13 @@ class Mboit final : public Method {
       : set_(MomentSet::parse(o.text("moments"))), quantised_(o.text("storage") == "unorm16"),
         bias_(o.text("bias") == "auto" ? set_.defaultBias(quantised_) : float(o.number("bias"))),
         overestimation_(float(o.number("overestimation"))), logWarp_(o.text("warp") == "log"),
-        accumFormat_(o.text("accum")) {}
+        unitDepth_(o.text("warp") == "unit"), saturate_(o.text("saturate") == "auto" && !set_.trigonometric),
+        clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp{}), accumFormat_(o.text("accum")) {
+    // The thesis's depth in [0, 1] comes with its bias vector for four power moments (Algorithm 5);
+    // the published vectors of the other sets and the 16-bit mapping assume depths in [−1, 1].
+    if (unitDepth_ && (o.text("moments") != "power4" || quantised_))
+      throw std::invalid_argument("method 'mboit' option 'warp': unit (the thesis's depth in [0, 1]) needs moments=power4 storage=float");
+  }
   const MethodInfo& info() const override { return mboitInfo(); }
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
@@ -97,8 +106,9 @@ class Mboit final : public Method {
     reveal.clear(glm::vec4(1.0f), profile);
     const Camera& cam = context.scene.camera;
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
-    const bool logWarp = logWarp_;
-    auto warp = [&, logWarp](const FragmentInput& in) {
+    const bool logWarp = logWarp_, unitDepth = unitDepth_;
+    auto warp = [&, logWarp, unitDepth](const FragmentInput& in) {
+      if (unitDepth) return in.depth;
       if (!logWarp) return 2.0f * in.depth - 1.0f;
       return float(2.0 * detLog(double(in.viewDepth) / double(cam.nearPlane)) / logRange - 1.0);
     };
@@ -170,7 +180,9 @@ class Mboit final : public Method {
 
     const float bias = bias_, overestimation = overestimation_;
     const bool quantised = quantised_;
-    const float* biasVector = set.trigonometric ? nullptr : powerBiasVector(set.count, quantised);
+    static constexpr float kThesisBiasVector[4] = {0.5f, 0.5f, 0.5f, 0.5f};  // Algorithm 5, line 1
+    const float* biasVector = set.trigonometric ? nullptr : unitDepth_ ? kThesisBiasVector : powerBiasVector(set.count, quantised);
+    const bool saturate = saturate_;
     std::atomic<uint64_t> fallbacks{0};  // a sum: the same for any order of the fragments
     // The weight e^(−b0·absorbance), the exponentials of a batch together (detExpFloatBatch:
     // float(detExp) for each, its series' divisions only where they can change the float).
@@ -223,11 +235,11 @@ class Mboit final : public Method {
       detExpFloatBatch(exponent, weight, count);
       for (int i = 0; i < count; ++i) {
         const float wi = weight[i];
-        w[i] = clear[i] ? 1.0f : set.trigonometric ? wi : std::clamp(wi, 0.0f, 1.0f);
+        w[i] = clear[i] ? 1.0f : saturate ? std::clamp(wi, 0.0f, 1.0f) : wi;
       }
     });
 
-    compositeWeighted(run, t, accum, reveal);  // as WBOIT
+    compositeWeighted(run, t, accum, reveal, clamp_);  // as WBOIT
     t.finish(result, "opaque");
     result.facts.emplace_back("moment reconstructions that fell back", std::to_string(fallbacks.load()));
     return result;
@@ -243,7 +255,8 @@ class Mboit final : public Method {
   MomentSet set_;
   bool quantised_;
   float bias_, overestimation_;
-  bool logWarp_;
+  bool logWarp_, unitDepth_, saturate_;
+  ResolveClamp clamp_;
   std::string accumFormat_;
 };
 
@@ -258,8 +271,18 @@ const MethodInfo& mboitInfo() {
        {"storage", "float", "moments in fp32 targets blended additively, or normalised and quantised into UNORM16", {"float", "unorm16"}},
        {"bias", "auto", "moment bias β (auto: the published value for the moment set and storage; the thesis used 0)", {}},
        {"overestimation", "0.25", "weight of the fragment's own depth in the absorbance", {}},
-       {"warp", "linear", "depth into [−1, 1]: linear 2d − 1 (window depth) or log of the view depth", {"linear", "log"}},
-       {"accum", "rgba32f", "accumulation format (thesis: RGBA32F)", {"rgba16f", "rgba32f"}}}};
+       {"warp", "linear",
+        "depth into [−1, 1]: linear 2d − 1 (window depth) or log of the view depth; unit: the window depth d in [0, 1] with "
+        "the bias vector (0.5, 0.5, 0.5, 0.5), as thesis Algorithms 5–6 (power4, float only)",
+        {"linear", "log", "unit"}},
+       {"saturate", "auto", "T = exp(−b0·a) clamped to [0, 1] for power moments as the paper's code does (auto; trigonometric: never), or never as thesis eq. 2.11 prints it (none)",
+        {"auto", "none"}},
+       {"clamp", "mb", "the composite's divisor Σα·w: clamped to [1e-4, 5e4] (mb, as WBOIT) or as it is (none, thesis eq. 2.9 with eq. 2.7)", {"mb", "none"}},
+       {"accum", "rgba32f", "accumulation format (thesis: RGBA32F)", {"rgba16f", "rgba32f"}}},
+      {{"thesis", "Algorithms 5–6 as printed: four power moments of the depth in [0, 1], Hamburger4MSM with bias 0 (vector 0.5) "
+                  "and its lower bound (overestimation 0), T = exp(−a·S) unclamped, eq. 2.7 unclamped, RGBA32F/R32F",
+        {{"moments", "power4"}, {"storage", "float"}, {"bias", "0"}, {"overestimation", "0"}, {"warp", "unit"},
+         {"saturate", "none"}, {"clamp", "none"}, {"accum", "rgba32f"}}}}};
   return info;
 }
 std::unique_ptr<Method> makeMboit(const MethodOptions& o) { return std::make_unique<Mboit>(o); }
