@@ -33,11 +33,14 @@ std::vector<StudyVariant> studyVariants() {
   const std::map<std::string, std::vector<std::map<std::string, std::string>>> extra = {
       {"sorted", {{{"sort", "triangle"}}}},
       {"wsum", {{{"accum", "rgba32f"}}}},
-      {"wavg", {{{"accum", "rgba32f"}}}},
+      // The thesis presets (Algorithms 1–6 as printed; peel's and wsum's are their defaults).
+      {"wavg", {{{"accum", "rgba32f"}}, {{"preset", "thesis"}}}},
       {"wboit",
-       {// The thesis's "WBOIT 16F" (no weight, 16-bit colour), its other weights in RGBA32F,
-        // and McGuire–Bavoil's own set-up (RGBA16F + R8) with their equations 7–10.
-        {{"weight", "one"}, {"accum", "rgba16f"}},
+       {// Algorithm 4 as printed, the thesis's "WBOIT 16F" (no weight, the 16-bit targets of its
+        // weighted average), its other weights in RGBA32F, and McGuire–Bavoil's own set-up
+        // (RGBA16F + R8) with their equations 7–10.
+        {{"preset", "thesis"}},
+        {{"preset", "thesis"}, {"weight", "one"}, {"accum", "rgba16f"}, {"reveal", "r16f"}},
         {{"weight", "z3"}},
         {{"weight", "z5"}},
         {{"weight", "az3"}},
@@ -57,7 +60,8 @@ std::vector<StudyVariant> studyVariants() {
       {"kbuffer", {{{"k", "8"}}, {{"k", "16"}}}},
       {"dfaoit", {{{"accum", "rgba32f"}}}},
       {"mboit",
-       {{{"bias", "0"}},
+       {{{"preset", "thesis"}},
+        {{"bias", "0"}},
         {{"warp", "log"}},
         {{"accum", "rgba16f"}},
         {{"moments", "power6"}},

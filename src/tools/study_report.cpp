@@ -190,15 +190,19 @@ std::string memoryTable(const StudyResult& result) {
   std::ostringstream o;
   o << "<h2 id=memory>Memory</h2>\n<p>Bytes per pixel of the attachments each method declares (the presented RGBA8 "
        "target and the depth buffer included, as the thesis includes the default framebuffer), and what that is at "
-       "1920×1080 (like Table 3.2 of Rožek's thesis, whose figures are beside ours where it measured the same "
-       "configuration). The A-buffer's fragment storage depends on the scene and is not included.</p>\n<table>\n"
-       "<tr><th>method</th><th>variant</th><th>bytes/pixel</th><th>MB at 1920×1080</th><th>thesis bytes/pixel</th></tr>\n";
+       "1920×1080 (like Table 3.2 of Rožek's thesis, whose figures are beside ours for the configuration with the "
+       "formats it measured: the thesis presets, with weight=one and 16-bit targets for its WBOIT 16F). The thesis gives "
+       "every pass a framebuffer with its own depth buffer where oitref's passes share the opaque one; the last "
+       "column says what that adds. The A-buffer's fragment storage depends on the scene and is not included.</p>\n<table>\n"
+       "<tr><th>method</th><th>variant</th><th>bytes/pixel</th><th>MB at 1920×1080</th><th>Table 3.2 row</th>"
+       "<th>thesis bytes/pixel</th><th>what the thesis counts besides</th></tr>\n";
   if (result.scenes.empty()) return o.str() + "</table>\n";
   for (const StudyRow& r : result.scenes[0].rows) {
-    const int thesis = thesisBytesPerPixel(r.variant);
+    const ThesisMemoryRow* thesis = thesisMemoryRow(r.variant);
     o << "<tr><td>" << escape(r.variant.method) << "</td><td>" << escape(r.variant.label()) << "</td><td class=n>"
-      << r.bytesPerPixel << "</td><td class=n>" << fmt("%.3f", r.bytesPerPixel * 1920.0 * 1080.0 / 1e6)
-      << "</td><td class=n>" << (thesis ? std::to_string(thesis) : "") << "</td></tr>\n";
+      << r.bytesPerPixel << "</td><td class=n>" << fmt("%.3f", r.bytesPerPixel * 1920.0 * 1080.0 / 1e6) << "</td><td>"
+      << (thesis ? thesis->name : "") << "</td><td class=n>" << (thesis ? std::to_string(thesis->bytesPerPixel) : "")
+      << "</td><td>" << (thesis ? thesis->counting : "") << "</td></tr>\n";
   }
   return o.str() + "</table>\n";
 }
@@ -246,15 +250,23 @@ std::vector<size_t> paretoFront(const std::vector<StudyRow>& rows, double floor)
   return front;
 }
 
-int thesisBytesPerPixel(const StudyVariant& v) {
-  if (!v.options.empty()) {
-    const bool wboit16 = v.method == "wboit" && v.options.size() == 2 && v.options.count("weight") &&
-                         v.options.at("weight") == "one" && v.options.count("accum") && v.options.at("accum") == "rgba16f";
-    return wboit16 ? 30 : 0;  // "WBOIT 16F"
-  }
-  static const std::map<std::string, int> table = {{"peel", 24}, {"wsum", 28}, {"wavg", 30}, {"wboit", 40}, {"mboit", 56}};
-  const auto it = table.find(v.method);
-  return it == table.end() ? 0 : it->second;
+const ThesisMemoryRow* thesisMemoryRow(const StudyVariant& v) {
+  // Algorithms 1–6 give each pass a framebuffer of its own: the transparent passes test against a
+  // copy of the opaque depth (D2, and D_M for MBOIT's moment pass), and weighted sum's composite
+  // target C3 has a depth buffer D3. oitref's passes share the opaque depth, and its
+  // weighted-sum composite needs none. Four rows are 8 B above what their Require lines list.
+  static const std::map<std::string, std::string> kThesis16F = {
+      {"preset", "thesis"}, {"weight", "one"}, {"accum", "rgba16f"}, {"reveal", "r16f"}};
+  static const std::pair<StudyVariant, ThesisMemoryRow> rows[] = {
+      {{"peel", {}}, {"Depth peeling", 24, "the same six attachments: C1/D1, C2/D2, C3/D3"}},
+      {{"wsum", {}}, {"Weighted sum", 28, "+8: D2 (a copy of D1) and D3 of F3"}},
+      {{"wavg", {}}, {"Weighted avg. 16F", 30, "+4: D2; +8 that Algorithm 3 does not list"}},
+      {{"wboit", kThesis16F}, {"WBOIT 16F", 30, "+4: D2; +8 that Algorithm 4 does not list"}},
+      {{"wboit", {{"preset", "thesis"}}}, {"WBOIT 32F", 40, "+4: D2; +8 that Algorithm 4 does not list"}},
+      {{"mboit", {{"preset", "thesis"}}}, {"MBOIT 32F", 56, "+8: D2 and D_M"}}};
+  for (const auto& [variant, row] : rows)
+    if (variant.method == v.method && variant.options == v.options) return &row;
+  return nullptr;
 }
 
 std::string studyHtml(const StudyResult& result) {

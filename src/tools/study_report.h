@@ -18,7 +18,14 @@ std::string studyCsv(const StudyResult& result);
 // (row 0, the A-buffer, exact by definition) is a method like the others here.
 std::vector<size_t> paretoFront(const std::vector<StudyRow>& rows, double floor);
 
-// The Thesis's Table 3.2 per-pixel figure for the configurations it measured, or 0.
-int thesisBytesPerPixel(const StudyVariant& variant);
+// A row of the thesis's Table 3.2 (memory per pixel) and the study configuration that has its
+// attachments, with what the thesis counts that oitref does not allocate.
+struct ThesisMemoryRow {
+  const char* name;  // as Table 3.2 names it
+  int bytesPerPixel;
+  const char* counting;  // the difference to oitref's count, explained
+};
+// The Table 3.2 row measured in the configuration `variant`, or null.
+const ThesisMemoryRow* thesisMemoryRow(const StudyVariant& variant);
 
 }  // namespace oitref::tools
