@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include <Imath/half.h>
+
 #include "method_fixture.h"
 
 namespace oitref::test {
@@ -21,8 +23,8 @@ struct Layer {
 
 // Full-screen layers (the camera at z = 2 looks down −z) over an opaque background, and an opaque
 // full-screen quad at `opaqueDistance` when it is positive.
-Scene layersAt(const std::vector<Layer>& layers, glm::vec3 background, double opaqueDistance = 0.0) {
-  Scene s = layerScene(4, background);
+Scene layersAt(const std::vector<Layer>& layers, glm::vec3 background, double opaqueDistance = 0.0, int size = 4) {
+  Scene s = layerScene(size, background);
   if (opaqueDistance > 0.0) {
     s.objects.push_back(quad({0.0f, 0.0f, float(2.0 - opaqueDistance)}, 50.0f, glm::vec4(background, 1.0f)));
     s.objects.back().transparentOverride = false;
@@ -176,6 +178,54 @@ TEST_CASE("printed formulas: MBOIT preset=thesis is Algorithms 5-6 with eq. 2.8-
   // fp32 moments and reconstruction: the absorbance within 1.3e-5 of exact (tests/test_moments.cpp's
   // bound), so each weight within about 2e-5 relative for S ≈ 1.6, the average within 4e-5; 1e-4.
   requireEverywhere(thesis, want, 1e-4, "mboit thesis");
+}
+
+// Vallius's listings 4.3–4.9 (stochastic variant=vallius). "total" is Π(1 − α) through R16F
+// blending (eq. 4.6). Per pass, layer i (nearest first) is the nearest survivor with probability
+// α_i·Π_{j<i}(1 − α_j), none survives with probability T = Π(1 − α); the S passes overwrite, so a
+// pixel shows the last pass's survivor, or 0 when no pass had one (probability T^S). The composite
+// bg·T + t1·(1 − T) then has the expectation bg·T + Σ c_i·α_i·Π_{j<i}(1 − α_j)·(1 − T^S): the mean
+// over 128×128 independent pixels is within 5 standard errors (each channel in [0, 1], so at most
+// 0.5/128) of it. Averaging the passes, as Enderton et al. do, would give bg·T + Σ…·(1 − T)
+// instead: far outside. As printed, the opaque depth is in neither framebuffer,
+// so an opaque layer in front does not hide the transparent ones.
+TEST_CASE("printed formulas: stochastic variant=vallius is listings 4.3-4.9 in expectation", "[printed]") {
+  const int size = 128, samples = 8;
+  const Scene s = layersAt(kThreeLayers, kBackground, 0.0, size);
+  const FrameResult f = render(s, "stochastic", {{"variant", "vallius"}, {"samples", std::to_string(samples)}});
+  double t = 1.0, t16 = 1.0;
+  glm::dvec3 layersShare(0.0);
+  for (const Layer& l : kThreeLayers) {
+    layersShare += glm::dvec3(glm::vec3(l.color)) * double(l.color.a) * t;
+    t *= 1.0 - double(l.color.a);
+    t16 = double(Imath::half(float(t16 * (1.0 - double(l.color.a)))));  // each blend rounds to fp16
+  }
+  const glm::dvec3 expected = glm::dvec3(kBackground) * t + layersShare * (1.0 - std::pow(t, samples));
+  const Image* total = nullptr;
+  for (const auto& [name, image] : f.dump)
+    if (name == "total") total = &image;
+  REQUIRE(total);
+  glm::dvec3 mean(0.0);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      REQUIRE(double(total->fetch(x, y).r) == t16);
+      mean += glm::dvec3(glm::vec3(f.finalFloat.fetch(x, y))) / double(size * size);
+    }
+  const double bound = 5.0 * 0.5 / size;
+  for (int k = 0; k < 3; ++k) CHECK(std::abs(mean[k] - expected[k]) < bound);
+  const glm::dvec3 averaged = glm::dvec3(kBackground) * t + layersShare * (1.0 - t);
+  CHECK(glm::length(averaged - expected) > 3 * bound);
+  // An opaque quad in front of the layers: still mixed with them, bg·T + t1·(1 − T).
+  const glm::vec3 opaque(0.1f, 0.9f, 0.1f);
+  Scene covered = layersAt(kThreeLayers, kBackground, 0.0, size);
+  covered.objects.push_back(quad({0.0f, 0.0f, 1.8f}, 50.0f, glm::vec4(opaque, 1.0f)));
+  covered.objects.back().transparentOverride = false;
+  const FrameResult c = render(covered, "stochastic", {{"variant", "vallius"}});
+  double green = 0.0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) green += double(c.finalFloat.fetch(x, y).g) / double(size * size);
+  CHECK(std::abs(green - (double(opaque.g) * t + layersShare.g * (1.0 - std::pow(t, 8)))) < bound);
+  CHECK(render(covered, "stochastic").finalFloat.fetch(0, 0).g == opaque.g);  // Enderton et al.: hidden
 }
 
 // Issue 21: McGuire–Bavoil's clamp was applied to the thesis's weights too. With a layer near the

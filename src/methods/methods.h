@@ -34,6 +34,7 @@ const MethodInfo& dfaoitInfo();
 std::unique_ptr<Method> makeDfaoit(const MethodOptions& options);
 const MethodInfo& stochasticInfo();
 std::unique_ptr<Method> makeStochastic(const MethodOptions& options);
+std::unique_ptr<Method> makeStochasticVallius(const MethodOptions& options);  // variant=vallius (stochastic_vallius.cpp)
 // The coverage mask of one fragment: round(α·samples) of the low `samples` bits (stochastic.cpp).
 uint32_t stochasticMask(uint32_t seed, int x, int y, uint32_t object, uint32_t primitive, float alpha, int samples);
 const MethodInfo& dualpeelInfo();

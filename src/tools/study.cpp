@@ -55,7 +55,7 @@ std::vector<StudyVariant> studyVariants() {
       {"screendoor", {{{"mask", "8"}}}},
       {"hybrid", {{{"k", "2"}}, {{"k", "8"}}, {{"k", "16"}}, {{"core", "rgba8"}}}},
       {"dualpeel", {{{"color", "rgba32f"}}, {{"passes", "4"}}}},
-      {"stochastic", {{{"samples", "16"}}, {{"samples", "32"}}}},
+      {"stochastic", {{{"samples", "16"}}, {{"samples", "32"}}, {{"variant", "vallius"}}}},
       {"mlab", {{{"k", "2"}}, {{"k", "8"}}, {{"node", "rgba8"}}}},
       {"kbuffer", {{{"k", "8"}}, {{"k", "16"}}}},
       {"dfaoit", {{{"accum", "rgba32f"}}}},
