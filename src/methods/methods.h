@@ -35,6 +35,8 @@ std::unique_ptr<Method> makeDfaoit(const MethodOptions& options);
 const MethodInfo& stochasticInfo();
 std::unique_ptr<Method> makeStochastic(const MethodOptions& options);
 std::unique_ptr<Method> makeStochasticVallius(const MethodOptions& options);  // variant=vallius (stochastic_vallius.cpp)
+// The key of a fragment's random numbers (stochastic.cpp; the variants hash it with SplitMix64).
+uint64_t stochasticFragmentKey(uint32_t seed, int x, int y, uint32_t object, uint32_t primitive);
 // The coverage mask of one fragment: round(α·samples) of the low `samples` bits (stochastic.cpp).
 uint32_t stochasticMask(uint32_t seed, int x, int y, uint32_t object, uint32_t primitive, float alpha, int samples);
 const MethodInfo& dualpeelInfo();

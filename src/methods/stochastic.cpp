@@ -20,32 +20,26 @@
 
 #include "methods/method_common.h"
 #include "methods/methods.h"
+#include "util/seeded_random.h"
 
 namespace oitref::methods {
 
-namespace {
-
-// SplitMix64 (Steele, Lea, Flood 2014): a well-mixed 64-bit hash of a 64-bit state.
-uint64_t splitMix(uint64_t& state) {
-  uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
+uint64_t stochasticFragmentKey(uint32_t seed, int x, int y, uint32_t object, uint32_t primitive) {
+  return (uint64_t(seed) << 32) ^ (uint64_t(uint32_t(x)) << 16) ^ uint64_t(uint32_t(y)) ^ (uint64_t(object) << 40) ^
+         (uint64_t(primitive) * 0x2545f4914f6cdd1dull);
 }
 
-}  // namespace
-
 uint32_t stochasticMask(uint32_t seed, int x, int y, uint32_t object, uint32_t primitive, float alpha, int samples) {
+  using util::splitMix64;
   const int bits = std::clamp(int(std::floor(double(alpha) * samples + 0.5)), 0, samples);
-  uint64_t state = (uint64_t(seed) << 32) ^ (uint64_t(uint32_t(x)) << 16) ^ uint64_t(uint32_t(y)) ^
-                   (uint64_t(object) << 40) ^ (uint64_t(primitive) * 0x2545f4914f6cdd1dull);
-  splitMix(state);
+  uint64_t state = stochasticFragmentKey(seed, x, y, object, primitive);
+  splitMix64(state);
   // The first `bits` entries of a Fisher–Yates shuffle of the sample indices.
   int order[32];
   for (int i = 0; i < samples; ++i) order[i] = i;
   uint32_t mask = 0;
   for (int i = 0; i < bits; ++i) {
-    const int j = i + int(splitMix(state) % uint64_t(samples - i));
+    const int j = i + int(splitMix64(state) % uint64_t(samples - i));
     std::swap(order[i], order[j]);
     mask |= 1u << order[i];
   }

@@ -22,18 +22,15 @@
 
 #include "methods/method_common.h"
 #include "methods/methods.h"
+#include "util/seeded_random.h"
 
 namespace oitref::methods {
 namespace {
 
+// The fragment's value in pass `sample`: 24 bits of SplitMix64 of its key, in [0, 1).
 float valliusRandom(uint32_t seed, int x, int y, int sample, uint32_t object, uint32_t primitive) {
-  uint64_t z = (uint64_t(seed) << 32 ^ uint64_t(uint32_t(x)) << 16 ^ uint64_t(uint32_t(y)) ^ uint64_t(sample) << 56 ^
-                uint64_t(object) << 40 ^ uint64_t(primitive) * 0x2545f4914f6cdd1dull) +
-               0x9e3779b97f4a7c15ull;  // SplitMix64's step and mix
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  z ^= z >> 31;
-  return float(z >> 40) * 0x1p-24f;
+  uint64_t state = stochasticFragmentKey(seed, x, y, object, primitive) ^ uint64_t(sample) << 56;
+  return float(util::splitMix64(state) >> 40) * 0x1p-24f;
 }
 
 class StochasticVallius final : public Method {

@@ -7,7 +7,7 @@
 // corners) turn black. The thesis's own figures show the published behaviour, so that is the
 // default; transmittance=thesis_eq2.2 evaluates the equation as printed.
 // n = 0: the background. Σα is divided as max(Σα, 1e-4) (clamp=max), or as it is (clamp=none:
-// eq. 2.3 as printed; a pixel whose layers all have α = 0 then divides 0 by 0).
+// eq. 2.3 as printed, with 0 where Σα is 0: ResolveClamp::average).
 #include <algorithm>
 
 #include "methods/method_common.h"

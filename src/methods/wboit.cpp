@@ -193,7 +193,7 @@ const MethodInfo& wboitInfo() {
        {"adaptive", "false", "thesis weights one…az5 on z / z_s, z_s the opaque depth at the pixel (not for mb7…mb10)", {"true", "false"}},
        {"layout", "mrt", "mrt: listing 3 (per-target blending); single: listing 4 (one blend function, revealage in accum.a)",
         {"mrt", "single"}},
-       {"clamp", "mb", "the composite's divisor Σα·w: mb = McGuire–Bavoil listing 3's clamp to [1e-4, 5e4]; none = thesis eq. 2.7 as printed (Σα·w itself; 0 gives inf or NaN, as the GPU's division)",
+       {"clamp", "mb", "the composite's divisor Σα·w: mb = McGuire–Bavoil listing 3's clamp to [1e-4, 5e4]; none = thesis eq. 2.7 as printed (Σα·w itself, and 0 where it is 0: the background stays)",
         {"mb", "none"}}},
       {{"thesis", "Algorithm 4 as printed: C2q RGBA32F, C2s R32F, W5 (the thesis's figures' weight), eq. 2.7 without a clamp",
         {{"accum", "rgba32f"}, {"reveal", "r32f"}, {"weight", "az5"}, {"adaptive", "false"}, {"layout", "mrt"}, {"clamp", "none"}}}}};

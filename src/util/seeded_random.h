@@ -8,6 +8,15 @@
 
 namespace oitref::util {
 
+// SplitMix64 (Steele, Lea, Flood 2014): advances `state` and returns a well-mixed 64-bit hash of
+// it, for random numbers that are a function of a key (a pixel, a fragment) rather than a sequence.
+inline uint64_t splitMix64(uint64_t& state) {
+  uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
 class SeededRandom {
  public:
   explicit SeededRandom(uint32_t seed) : engine_(seed) {}
