@@ -183,7 +183,8 @@ TEST_CASE("methods: presets set options, and options given beside a preset win",
   for (const MethodInfo& m : allMethods())
     for (const MethodPreset& p : m.presets) {
       const MethodOptions o(m, {{"preset", p.name}});
-      for (const auto& [key, value] : p.values) {
+      for (const auto& entry : p.values) {
+        const std::string &key = entry.first, &value = entry.second;
         const auto declared = std::find_if(m.options.begin(), m.options.end(), [&](const MethodOption& d) { return d.key == key; });
         REQUIRE(declared != m.options.end());
         CHECK((declared->choices.empty() || std::count(declared->choices.begin(), declared->choices.end(), value) == 1));

@@ -65,7 +65,9 @@ MethodOptions::MethodOptions(const MethodInfo& info, const std::map<std::string,
     values_[o.key] = o.defaultValue;
     keys.push_back(o.key);
   }
-  for (const auto& [key, value] : given) {
+  for (const auto& entry : given) {
+    const std::string& key = entry.first;  // not a structured binding: lambdas capture those only from C++20 compilers on
+    const std::string& value = entry.second;
     const auto option = std::find_if(options.begin(), options.end(), [&](const MethodOption& o) { return o.key == key; });
     if (option == options.end())
       throw std::invalid_argument("method '" + info.name + "' has no option '" + key + "'" + util::didYouMean(key, keys) +
