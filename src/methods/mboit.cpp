@@ -70,7 +70,7 @@ class Mboit final : public Method {
         bias_(o.text("bias") == "auto" ? set_.defaultBias(quantised_) : float(o.number("bias"))),
         overestimation_(float(o.number("overestimation"))), logWarp_(o.text("warp") == "log"),
         unitDepth_(o.text("warp") == "unit"), saturate_(o.text("saturate") == "auto" && !set_.trigonometric),
-        clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp{}), accumFormat_(o.text("accum")) {
+        clamp_(resolveClampOption(o)), accumFormat_(o.text("accum")) {
     // The thesis's depth in [0, 1] comes with its bias vector for four power moments (Algorithm 5);
     // the published vectors of the other sets and the 16-bit mapping assume depths in [−1, 1].
     if (unitDepth_ && (o.text("moments") != "power4" || quantised_))

@@ -199,6 +199,10 @@ struct ResolveClamp {
     return d == 0.0f ? glm::vec3(0.0f) : sum / d;
   }
 };
+// WBOIT's and MBOIT's option clamp=mb|none.
+inline ResolveClamp resolveClampOption(const MethodOptions& o) {
+  return o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp{};
+}
 // S_oit of WBOIT and MBOIT (thesis eq. 2.7; with McGuire–Bavoil listing 3's clamp by default):
 // the weighted average accum.rgb / clamp(accum.a, low, high) and, as alpha, the revealage.
 inline glm::vec4 weightedResolve(const glm::vec4& accum, float reveal, ResolveClamp clamp = {}) {

@@ -4,7 +4,8 @@
 //   composite (accum.rgb / clamp(accum.a, 1e-4, 5e4), reveal) blended into the background with
 //   C_f = C_s·(1 − α_s) + C_d·α_s
 // The clamp is McGuire–Bavoil's (listing 3); thesis eq. 2.7 divides by Σα·w as it is, which
-// clamp=none gives (with the W5 weight and a near layer the two differ by a factor of about two).
+// clamp=none gives (with W5 and a layer near the near plane the two differ by far more than
+// rounding: tests/test_printed_formulas.cpp).
 // Weights w(z, α):
 //   thesis W1–W5 on the window depth z ∈ [0,1] (with `adaptive`, z / z_s, z_s the opaque depth
 //   at the pixel): one: 1, z3: 1/z³, z5: 1/z⁵, az3: α/z³, az5: α/z⁵. In exact arithmetic
@@ -89,7 +90,7 @@ class Wboit final : public Method {
   explicit Wboit(const MethodOptions& o)
       : accumFormat_(o.text("accum")), revealFormat_(o.text("reveal")), weight_(parseWeight(o.text("weight"))),
         adaptive_(o.flag("adaptive")), single_(o.text("layout") == "single"),
-        clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp{}) {
+        clamp_(resolveClampOption(o)) {
     // The thesis makes its own weights W1–W5 adaptive (z / z_s in place of z); McGuire–Bavoil's
     // eq. 7–10 have no adaptive form (7–9 read the view depth, where z / z_s would mean nothing).
     if (adaptive_ && weight_ >= Weight::MB7)
@@ -195,7 +196,7 @@ const MethodInfo& wboitInfo() {
         {"mrt", "single"}},
        {"clamp", "mb", "the composite's divisor Σα·w: mb = McGuire–Bavoil listing 3's clamp to [1e-4, 5e4]; none = thesis eq. 2.7 as printed (Σα·w itself, and 0 where it is 0: the background stays)",
         {"mb", "none"}}},
-      {{"thesis", "Algorithm 4 as printed: C2q RGBA32F, C2s R32F, W5 (the thesis's figures' weight), eq. 2.7 without a clamp",
+      {{"thesis", "Algorithm 4 as printed: C2q RGBA32F, C2s R32F, W5 (the weight of most of the thesis's figures), eq. 2.7 without a clamp",
         {{"accum", "rgba32f"}, {"reveal", "r32f"}, {"weight", "az5"}, {"adaptive", "false"}, {"layout", "mrt"}, {"clamp", "none"}}}}};
   return info;
 }
