@@ -436,6 +436,14 @@ struct PixelRun {
 // file's compile time). The plan and the constant's lanes come by value: by reference their
 // addresses escaped, and the caller read its compiled shape back from memory after each call
 // instead of folding it (twice as slow).
+// A group's blend with the shape read at run time, out of line: the general kernels' and the rare
+// chunks' (blendAgainWithRules). Inlined into each of them, every branch of the run-time shape
+// made each a large function, and compiling them took 55 s of this file's 86 (on one core); the
+// same operations per lane, so the same bits. Compiled shapes keep their inlined, folded copy.
+[[gnu::noinline]] LP_AVX2 v8f runLanesOutOfLine(const LlvmpipeFloatPlan& plan, const Lanes8& l, IntLanesOf<v8f>* special) {
+  return runLanes(plan, l, special);
+}
+
 template <typename Pixels>
 [[gnu::noinline]] LP_AVX2 void blendAgainWithRules(LlvmpipeFloatPlan plan, v8f constant, v8f constantAlpha,
                                                    Pixels pixels, const v8f* loaded, int n, Rounding fp16) {
@@ -445,7 +453,7 @@ template <typename Pixels>
   for (int i = 0, g = 0; i < n; i += Pixels::P, g += 2) {
     pixels.loadSources(i, lanes.source, lanes.sourceAlpha);
     lanes.destination = loaded[g], lanes.destinationAlpha = loaded[g + 1];
-    pixels.store(i, runLanes(plan, lanes, nullptr), fp16);
+    pixels.store(i, runLanesOutOfLine(plan, lanes, nullptr), fp16);
   }
 }
 
@@ -454,7 +462,9 @@ template <typename Pixels>
 // instead of one per operation and group); in the rare chunk that has such a lane, every pixel of
 // it is blended again from the destinations as they were loaded, with the rules applied. The
 // same bits either way.
-template <int Channels, bool Half, typename Pixels>
+// Shape known: whether the shape is compiled in (runLanes inlined) or read at run time
+// (runLanesOutOfLine).
+template <int Channels, bool Half, bool ShapeKnown, typename Pixels>
 LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const Pixels& pixels, int n,
                           Rounding fp16) {
   constexpr int P = 8 / Channels, kChunk = 64;
@@ -472,7 +482,8 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
       pixels.loadDestinations(i, lanes.destination, lanes.destinationAlpha);
       loaded[g] = lanes.destination, loaded[g + 1] = lanes.destinationAlpha;
       pixels.loadSources(i, lanes.source, lanes.sourceAlpha);
-      pixels.store(i, runLanes(plan, lanes, &special), fp16);
+      if constexpr (ShapeKnown) pixels.store(i, runLanes(plan, lanes, &special), fp16);
+      else pixels.store(i, runLanesOutOfLine(plan, lanes, &special), fp16);
     }
     if (Arith<v8f>::any(special)) {
       blendAgainWithRules(plan, lanes.constant, lanes.constantAlpha, pixels.from(chunk), loaded, end - chunk, fp16);
@@ -483,12 +494,12 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
 template <int Channels, bool Half>
 LP_AVX2 int generalTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                           uint8_t* const* texels, int n, Rounding fp16) {
-  return blendTexels<Channels, Half>(plan, constant, ScatteredPixels<Channels, Half>{sources, texels}, n, fp16);
+  return blendTexels<Channels, Half, false>(plan, constant, ScatteredPixels<Channels, Half>{sources, texels}, n, fp16);
 }
 template <int Channels, bool Half>
 LP_AVX2 int generalRun(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
                        uint8_t* texels, int n, Rounding fp16) {
-  return blendTexels<Channels, Half>(plan, constant, PixelRun<Channels, Half>{sources, texels}, n, fp16);
+  return blendTexels<Channels, Half, false>(plan, constant, PixelRun<Channels, Half>{sources, texels}, n, fp16);
 }
 
 // `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
@@ -507,13 +518,13 @@ v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destin
 template <LlvmpipeFloatShape Shape, bool Half>
 LP_AVX2 int compiledTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                            uint8_t* const* texels, int n, Rounding fp16) {
-  return blendTexels<Shape.channels, Half>(withShape<Shape>(plan), constant,
+  return blendTexels<Shape.channels, Half, true>(withShape<Shape>(plan), constant,
                                            ScatteredPixels<Shape.channels, Half>{sources, texels}, n, fp16);
 }
 template <LlvmpipeFloatShape Shape, bool Half>
 LP_AVX2 int compiledRun(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
                         uint8_t* texels, int n, Rounding fp16) {
-  return blendTexels<Shape.channels, Half>(withShape<Shape>(plan), constant, PixelRun<Shape.channels, Half>{sources, texels},
+  return blendTexels<Shape.channels, Half, true>(withShape<Shape>(plan), constant, PixelRun<Shape.channels, Half>{sources, texels},
                                            n, fp16);
 }
 
