@@ -1,5 +1,5 @@
 # Whole frames an NVIDIA H200 rendered (tests/data/nvidia/frames_h200.tgz: the GL traces of
-# `glcheck scene --record-trace` for every built-in scene at 160x90 and what the GPU read back,
+# `glcheck scene --record-trace` for seven of the built-in scenes at 160x90 and what the GPU read back,
 # docs/nvidia.md, "Whole frames") against oitref's --profile nvidia: the opaque method bit for bit
 # in every scene, and no method below the shares docs/nvidia.md reports.
 file(REMOVE_RECURSE ${DIR})

@@ -254,16 +254,20 @@ const ThesisMemoryRow* thesisMemoryRow(const StudyVariant& v) {
   // Algorithms 1–6 give each pass a framebuffer of its own: the transparent passes test against a
   // copy of the opaque depth (D2, and D_M for MBOIT's moment pass), and weighted sum's composite
   // target C3 has a depth buffer D3. oitref's passes share the opaque depth, and its
-  // weighted-sum composite needs none. Four rows are 8 B above what their Require lines list.
+  // weighted-sum composite needs none. Three rows (weighted average and both WBOITs) are 8 B above
+  // what their Require lines list: exactly an RGBA8 colour and a 32-bit depth buffer, a window's
+  // default framebuffer, into which their composites draw (the thesis says its figures include the
+  // default framebuffer). Peel's and weighted sum's lists end in such a framebuffer, F3, and their
+  // figures are their lists; MBOIT 32F's figure is Algorithm 6's list alone, without those 8 B.
   static const std::map<std::string, std::string> kThesis16F = {
       {"preset", "thesis"}, {"weight", "one"}, {"accum", "rgba16f"}, {"reveal", "r16f"}};
   static const std::pair<StudyVariant, ThesisMemoryRow> rows[] = {
       {{"peel", {}}, {"Depth peeling", 24, "the same six attachments: C1/D1, C2/D2, C3/D3"}},
       {{"wsum", {}}, {"Weighted sum", 28, "+8: D2 (a copy of D1) and D3 of F3"}},
-      {{"wavg", {}}, {"Weighted avg. 16F", 30, "+4: D2; +8 that Algorithm 3 does not list"}},
-      {{"wboit", kThesis16F}, {"WBOIT 16F", 30, "+4: D2; +8 that Algorithm 4 does not list"}},
-      {{"wboit", {{"preset", "thesis"}}}, {"WBOIT 32F", 40, "+4: D2; +8 that Algorithm 4 does not list"}},
-      {{"mboit", {{"preset", "thesis"}}}, {"MBOIT 32F", 56, "+8: D2 and D_M"}}};
+      {{"wavg", {}}, {"Weighted avg. 16F", 30, "+4: D2; +8: the default framebuffer (RGBA8, 32-bit depth) the composite draws into, which Algorithm 3 does not list"}},
+      {{"wboit", kThesis16F}, {"WBOIT 16F", 30, "+4: D2; +8: the default framebuffer (RGBA8, 32-bit depth) the composite draws into, which Algorithm 4 does not list"}},
+      {{"wboit", {{"preset", "thesis"}}}, {"WBOIT 32F", 40, "+4: D2; +8: the default framebuffer (RGBA8, 32-bit depth) the composite draws into, which Algorithm 4 does not list"}},
+      {{"mboit", {{"preset", "thesis"}}}, {"MBOIT 32F", 56, "+8: D2 and D_M (Algorithm 6's list; the default framebuffer counted for WBOIT is not counted here)"}}};
   for (const auto& [variant, row] : rows)
     if (variant.method == v.method && variant.options == v.options) return &row;
   return nullptr;
