@@ -34,6 +34,8 @@
   X(PFNGLCLEARBUFFERFIPROC, ClearBufferfi)                                                              \
   X(PFNGLCOLORMASKIPROC, ColorMaski)                                                                    \
   X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                                      \
+  X(PFNGLCULLFACEPROC, CullFace)                                                                        \
+  X(PFNGLFRONTFACEPROC, FrontFace)                                                                      \
   X(PFNGLDEPTHMASKPROC, DepthMask)                                                                      \
   X(PFNGLBLENDEQUATIONSEPARATEIPROC, BlendEquationSeparatei)                                            \
   X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)                                                    \

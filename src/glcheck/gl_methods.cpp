@@ -5,6 +5,7 @@
 
 #include "methods/det_math.h"
 #include "methods/method_common.h"
+#include "methods/methods.h"
 
 namespace oitref::glcheck {
 namespace {
@@ -22,16 +23,20 @@ std::string opaque(GlFrame& f, const MethodOptions&) {
   return "opaque";
 }
 
-// over.cpp: OVER in submission order onto the background.
-std::string over(GlFrame& f, const MethodOptions&) {
+// over.cpp: OVER in submission order onto the background, its draws culled as `faces` says.
+std::string over(GlFrame& f, const MethodOptions& o) {
   f.opaquePass();
-  f.transparentPass(R"(
+  for (const auto& [name, cull] : methods::overDraws(o.text("faces"))) {
+    PipelineState state = transparentState(f.context().profile, overBlend());
+    state.raster.cull = cull;
+    f.transparentPass(R"(
 void main() {
   vec4 c = shadeSurface();
   o0 = c;
   o1 = c;
 })",
-                    {"opaque", "analysis"}, "depth", transparentState(f.context().profile, overBlend()));
+                      {"opaque", "analysis"}, "depth", state);
+  }
   return "opaque";
 }
 

@@ -28,6 +28,13 @@ void applyPipelineState(const GlFunctions& gl, const PipelineState& s, int colou
   gl.DepthMask(s.depth.writeMask ? GL_TRUE : GL_FALSE);
   if (s.depth.clamp) gl.Enable(GL_DEPTH_CLAMP);
   else gl.Disable(GL_DEPTH_CLAMP);
+  if (s.raster.cull == CullMode::None) {
+    gl.Disable(GL_CULL_FACE);
+  } else {
+    gl.Enable(GL_CULL_FACE);
+    gl.CullFace(s.raster.cull == CullMode::Front ? GL_FRONT : GL_BACK);
+  }
+  gl.FrontFace(s.raster.frontFace == FrontFace::CounterClockwise ? GL_CCW : GL_CW);
   for (int i = 0; i < colourCount; ++i) applyBlendState(gl, unsigned(i), s.blend[size_t(i)]);
   gl.BlendColor(s.blendConstant.r, s.blendConstant.g, s.blendConstant.b, s.blendConstant.a);
 }

@@ -16,7 +16,8 @@ enum class Op : uint16_t {
   CompileShader, DeleteShader, CreateProgram, AttachShader, LinkProgram, DeleteProgram, UseProgram,
   GetUniformLocation, Uniform1i, Uniform1f, Uniform4fv, GenBuffers, DeleteBuffers, BindBuffer, BufferData,
   BindBufferBase, GenVertexArrays, DeleteVertexArrays, BindVertexArray, DrawArrays, DrawElements,
-  VertexAttribPointer, EnableVertexAttribArray, CopyImageSubData, MemoryBarrier, ProvokingVertex
+  VertexAttribPointer, EnableVertexAttribArray, CopyImageSubData, MemoryBarrier, ProvokingVertex,
+  CullFace, FrontFace  // appended: traces recorded before them still replay
 };
 
 inline constexpr char kMagic[8] = {'O', 'I', 'T', 'R', 'G', 'L', 'T', '1'};

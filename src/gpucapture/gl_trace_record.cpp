@@ -78,6 +78,8 @@ OITREF_SIMPLE(ClearBufferfi, (GLenum b, GLint i, GLfloat d, GLint s), (b, i, d, 
 OITREF_SIMPLE(ColorMaski, (GLuint i, GLboolean r, GLboolean g, GLboolean b, GLboolean a), (i, r, g, b, a),
               OITREF_PUT(i) OITREF_PUT(r) OITREF_PUT(g) OITREF_PUT(b) OITREF_PUT(a))
 OITREF_SIMPLE(DepthFunc, (GLenum f), (f), OITREF_PUT(f))
+OITREF_SIMPLE(CullFace, (GLenum m), (m), OITREF_PUT(m))
+OITREF_SIMPLE(FrontFace, (GLenum m), (m), OITREF_PUT(m))
 OITREF_SIMPLE(DepthMask, (GLboolean m), (m), OITREF_PUT(m))
 OITREF_SIMPLE(BlendEquationSeparatei, (GLuint i, GLenum a, GLenum b), (i, a, b), OITREF_PUT(i) OITREF_PUT(a) OITREF_PUT(b))
 OITREF_SIMPLE(BlendFuncSeparatei, (GLuint i, GLenum a, GLenum b, GLenum c, GLenum d), (i, a, b, c, d),
@@ -236,6 +238,7 @@ GlFunctions recordingFunctions(const GlFunctions& driver, std::ostream& out) {
   OITREF_WRAP(, TexStorage2D) OITREF_WRAP(, TexParameteri) OITREF_WRAP(, GenFramebuffers) OITREF_WRAP(, DeleteFramebuffers)
   OITREF_WRAP(, BindFramebuffer) OITREF_WRAP(, FramebufferTexture2D) OITREF_WRAP(, DrawBuffers) OITREF_WRAP(, ClearBufferfv)
   OITREF_WRAP(, ClearBufferfi) OITREF_WRAP(, ColorMaski) OITREF_WRAP(, DepthFunc) OITREF_WRAP(, DepthMask)
+  OITREF_WRAP(, CullFace) OITREF_WRAP(, FrontFace)
   OITREF_WRAP(, BlendEquationSeparatei) OITREF_WRAP(, BlendFuncSeparatei) OITREF_WRAP(, BlendColor)
   OITREF_WRAP(, CreateShader) OITREF_WRAP(, ShaderSource) OITREF_WRAP(, CompileShader) OITREF_WRAP(, DeleteShader)
   OITREF_WRAP(, CreateProgram) OITREF_WRAP(, AttachShader) OITREF_WRAP(, LinkProgram) OITREF_WRAP(, DeleteProgram)

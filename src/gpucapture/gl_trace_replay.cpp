@@ -217,6 +217,8 @@ size_t replayTrace(const GlFunctions& driver, std::istream& trace, std::ostream&
         break;
       }
       case Op::DepthFunc: gl.DepthFunc(r.get<GLenum>()); break;
+      case Op::CullFace: gl.CullFace(r.get<GLenum>()); break;
+      case Op::FrontFace: gl.FrontFace(r.get<GLenum>()); break;
       case Op::DepthMask: gl.DepthMask(r.get<GLboolean>()); break;
       case Op::BlendEquationSeparatei: {
         const GLuint i = r.get<GLuint>();

@@ -2,8 +2,12 @@
 #pragma once
 
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "oitref/method.h"
+#include "oitref/pipeline_state.h"
 
 namespace oitref::methods {
 
@@ -12,6 +16,9 @@ const MethodInfo& opaqueInfo();
 std::unique_ptr<Method> makeOpaque(const MethodOptions& options);
 const MethodInfo& overInfo();
 std::unique_ptr<Method> makeOver(const MethodOptions& options);
+// over's transparent draws for its `faces` option, in order: each pass's name and the faces it
+// culls (the C++ method and its GL version in glcheck both draw these).
+std::vector<std::pair<std::string, CullMode>> overDraws(const std::string& faces);
 const MethodInfo& sortedInfo();
 std::unique_ptr<Method> makeSorted(const MethodOptions& options);
 const MethodInfo& wsumInfo();

@@ -31,6 +31,7 @@ std::vector<StudyVariant> studyVariants() {
   // The variants worth a row beside each method's defaults; a method missing here (or added
   // later) is studied at its defaults.
   const std::map<std::string, std::vector<std::map<std::string, std::string>>> extra = {
+      {"over", {{{"faces", "split"}}}},
       {"sorted", {{{"sort", "triangle"}}}},
       {"wsum", {{{"accum", "rgba32f"}}}},
       // The thesis presets (Algorithms 1–6 as printed; peel's and wsum's are their defaults).
