@@ -1,5 +1,5 @@
 # Whole frames an NVIDIA H200 rendered (tests/data/nvidia/frames_h200.tgz: the GL traces of
-# `glcheck scene --record-trace` for seven of the built-in scenes at 160x90 and what the GPU read back,
+# `glcheck scene --record-trace` for every built-in scene at 160x90, and ballpark's over faces=split, and what the GPU read back,
 # docs/nvidia.md, "Whole frames") against oitref's --profile nvidia: the opaque method bit for bit
 # in every scene, and no method below the shares docs/nvidia.md reports.
 file(REMOVE_RECURSE ${DIR})
@@ -8,14 +8,15 @@ execute_process(COMMAND ${CMAKE_COMMAND} -E tar xzf ${DATA} WORKING_DIRECTORY ${
 if(NOT status EQUAL 0)
   message(FATAL_ERROR "cannot unpack ${DATA}")
 endif()
-foreach(scene ballpark dense glass intersect smoke squares stack16)
+foreach(scene ballpark dense glass intersect near smoke squares stack16 veils)
   execute_process(COMMAND ${OITREF} glcheck scene ${SOURCE}/scenes/${scene}.json --profile nvidia --min-share 0.98
                           --gpu-reads ${DIR}/${scene}.reads
                   RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT out MATCHES "\n  opaque +0 +0 +100.00 % +100.00 %")
     message(FATAL_ERROR "${scene}: oitref's opaque frame is no longer the H200's, bit for bit:\n${out}${err}")
   endif()
-  # dense (300 layers: wboit, mboit, peel) and squares (mboit) stay below 98 % (docs/nvidia.md).
+  # dense (300 layers: wboit, mboit, peel), squares (mboit) and near (mboit, peel: layers just
+  # beyond the near plane) stay below 98 % (docs/nvidia.md).
   string(REGEX MATCHALL "FAIL" failures "${out}")
   list(LENGTH failures failed)
   set(expected 0)
@@ -23,8 +24,18 @@ foreach(scene ballpark dense glass intersect smoke squares stack16)
     set(expected 2)
   elseif(scene STREQUAL "squares")
     set(expected 1)
+  elseif(scene STREQUAL "near")
+    set(expected 2)
   endif()
   if(NOT failed EQUAL expected)
     message(FATAL_ERROR "${scene}: ${failed} methods under 98 % of pixels within one step, expected ${expected}:\n${out}${err}")
   endif()
 endforeach()
+
+# over faces=split (two culled draws) on ballpark: within one step everywhere.
+execute_process(COMMAND ${OITREF} glcheck scene ${SOURCE}/scenes/ballpark.json --methods over --set faces=split --profile nvidia
+                        --gpu-reads ${DIR}/ballpark_over_split.reads
+                RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT status EQUAL 0 OR NOT out MATCHES "\n  over +[0-9.e-]+ +[0-9.e-]+ +100.00 %")
+  message(FATAL_ERROR "ballpark over faces=split: no longer within one step of the H200's frame:\n${out}${err}")
+endif()
