@@ -138,6 +138,13 @@ GlFrame::GlFrame(const GlContext& context, const FrameContext& frame, const std:
   gl_.Disable(GL_FRAMEBUFFER_SRGB);
   gl_.Disable(GL_CULL_FACE);
   gl_.Viewport(0, 0, frame.width, frame.height);
+  // GL leaves a new texture's contents undefined; a driver may hand back memory another frame
+  // used. Every attachment starts cleared (colour 0, depth 1), so that no read of one a method has
+  // not written yet can depend on what ran before in the same context.
+  for (const AttachmentDecl& a : all) {
+    if (a.isDepth) clearDepth(a.name, 1.0f);
+    else clear(a.name, glm::vec4(0.0f));
+  }
   context_.check("setting up the frame");
 }
 

@@ -199,7 +199,18 @@ int runFrames(const char* tracePath, const char* outPath) {
   return 0;
 }
 
+// NVIDIA's driver keeps compiled shaders in a disk cache, and a shader loaded from it can compute
+// other bits than the same shader compiled afresh (on the H200, driver 580.159.04: the second
+// replay of a scene's trace differed from the first in 3 of 5 scenes, and every replay with the
+// cache off gave the first one's bits). Captures turn the cache off, so that a trace gives the same
+// reads on every run; a caller who sets __GL_SHADER_DISK_CACHE keeps its value.
+void disableShaderDiskCache() {
+  setenv("__GL_SHADER_DISK_CACHE", "0", /*overwrite=*/0);
+  std::cerr << "__GL_SHADER_DISK_CACHE=" << std::getenv("__GL_SHADER_DISK_CACHE") << "\n";
+}
+
 int main(int argc, char** argv) {
+  disableShaderDiskCache();
   const bool blend = argc == 4 && std::strcmp(argv[1], "blend") == 0;
   const bool frames = argc == 4 && std::strcmp(argv[1], "frames") == 0;
   if (!blend && !frames) {
