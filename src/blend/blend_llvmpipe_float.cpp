@@ -436,10 +436,9 @@ struct PixelRun {
 // file's compile time). The plan and the constant's lanes come by value: by reference their
 // addresses escaped, and the caller read its compiled shape back from memory after each call
 // instead of folding it (twice as slow).
-// A group's blend with the shape read at run time, out of line: the general kernels' and the rare
-// chunks' (blendAgainWithRules). Inlined into each of them, every branch of the run-time shape
-// made each a large function, and compiling them took 55 s of this file's 86 (on one core); the
-// same operations per lane, so the same bits. Compiled shapes keep their inlined, folded copy.
+// A group's blend with the shape read at run time, out of line, for the general kernels and the
+// rare chunks (blendAgainWithRules): inlined into each, the run-time shape's every branch took 55 s
+// of this file's 86 s compile; the same operations per lane, so the same bits.
 [[gnu::noinline]] LP_AVX2 v8f runLanesOutOfLine(const LlvmpipeFloatPlan& plan, const Lanes8& l, IntLanesOf<v8f>* special) {
   return runLanes(plan, l, special);
 }
