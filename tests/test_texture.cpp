@@ -1,6 +1,6 @@
 // Texture sampling against values derived here from GL 4.6 §8.14–8.17 by hand or by independent
 // arithmetic: bilinear filtering reproduces a linear ramp exactly, wrap modes read the texels the
-// spec's tables name, the level of detail picks the levels eq. 8.14–8.16 give, an incomplete
+// spec's tables name, the level of detail picks the levels §8.14.3 gives, an incomplete
 // texture reads (0, 0, 0, 1), and the box filter rounds like integer arithmetic does.
 #include <catch2/catch.hpp>
 
@@ -86,7 +86,7 @@ TEST_CASE("texture: LINEAR across a wrapped edge weighs the wrapped neighbour", 
   CHECK(std::abs(at(WrapMode::MirroredRepeat) - 0.0) < 1e-7);                          // −1 → 0
 }
 
-TEST_CASE("texture: the level of detail selects levels as eq. 8.14-8.16 write it", "[texture]") {
+TEST_CASE("texture: the level of detail selects levels as §8.14.3 writes it", "[texture]") {
   Texture2D tex = textureOf(4, 4, [](int, int) { return 0; });
   tex.setLevel(1, constantLevel(2, 2, 100));
   tex.setLevel(2, constantLevel(1, 1, 200));
@@ -107,7 +107,7 @@ TEST_CASE("texture: the level of detail selects levels as eq. 8.14-8.16 write it
   CHECK(red(TextureFilter::LinearMipmapLinear, 0.25) == Approx(25.0));
   CHECK(red(TextureFilter::NearestMipmapLinear, 1.5) == Approx(150.0));
   CHECK(red(TextureFilter::LinearMipmapLinear, 2.5) == Approx(200.0));
-  // The sampler's bias and clamp come first (eq. 8.6).
+  // The sampler's bias and clamp come first (§8.14.1).
   SamplerState sp = samplerWith(TextureFilter::LinearMipmapLinear, TextureFilter::Linear);
   sp.lodBias = 1.0f;
   CHECK(double(sampleTexture(tex, sp, 0.3f, 0.6f, 0.25).r) * 255.0 == Approx(125.0));

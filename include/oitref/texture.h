@@ -24,7 +24,7 @@ enum class TextureFilter : uint8_t {
   LinearMipmapLinear
 };
 
-// A sampler's state with GL's initial values (§8.21 table 23.18: REPEAT, NEAREST_MIPMAP_LINEAR
+// A sampler's state with GL's initial values (REPEAT, NEAREST_MIPMAP_LINEAR
 // minification, LINEAR magnification, LOD range [−1000, 1000], bias 0).
 struct SamplerState {
   WrapMode wrapS = WrapMode::Repeat, wrapT = WrapMode::Repeat;
@@ -80,12 +80,12 @@ TextureLevel generateMipmapLevel(TextureFormat format, const TextureLevel& sourc
 double srgbToLinear(double encoded);
 double linearToSrgb(double linear);
 
-// λ_base = log2 ρ, ρ = max(‖(∂u/∂x, ∂v/∂x)‖, ‖(∂u/∂y, ∂v/∂y)‖) in texels (§8.14.1, eq. 8.7 and
-// the unscaled form's u = s·w_t, v = t·h_t); what a 2×2 quad's differences give.
+// λ_base = log2 ρ, ρ = max(‖(∂u/∂x, ∂v/∂x)‖, ‖(∂u/∂y, ∂v/∂y)‖) in texels (§8.14.1, with
+// u = s·w_t, v = t·h_t); what a 2×2 quad's differences give.
 double lodFromDerivatives(double dsdx, double dtdx, double dsdy, double dtdy, int width, int height);
 
 // The filtered colour at (s, t) for the level-of-detail λ_base (before the sampler's bias and
-// clamp, which this applies, §8.14.1 eq. 8.6): magnified when λ ≤ 0 (§8.14), else minified by the
+// clamp, which this applies, §8.14.1): magnified when λ ≤ 0 (§8.14), else minified by the
 // sampler's minification filter, over the texture's levels (level_base 0, q its last).
 glm::vec4 sampleTexture(const Texture2D& texture, const SamplerState& sampler, float s, float t, double lodBase);
 

@@ -19,7 +19,7 @@ int imod(int a, int b) {
 }
 int mirror(int a) { return a >= 0 ? a : -(1 + a); }
 
-// Table 8.20: the wrap of an integer texel coordinate c on a level `size` texels wide.
+// §8.14.2's wrap table: the wrap of an integer texel coordinate c on a level `size` texels wide.
 int wrap(WrapMode mode, int c, int size) {
   switch (mode) {
     case WrapMode::Repeat: return imod(c, size);
@@ -36,7 +36,7 @@ glm::dvec4 nearest(const Texture2D& tex, const SamplerState& sp, int level, doub
   return tex.texel(level, wrap(sp.wrapS, int(std::floor(u)), l.width), wrap(sp.wrapT, int(std::floor(v)), l.height));
 }
 
-// §8.14.2, eq. 8.11: LINEAR weighs the 2×2 texels around (u − ½, v − ½) by α = frac(u − ½),
+// §8.14.2: LINEAR weighs the 2×2 texels around (u − ½, v − ½) by α = frac(u − ½),
 // β = frac(v − ½); the second column and row are wrap(⌊u − ½⌋ + 1), wrap(⌊v − ½⌋ + 1).
 glm::dvec4 linear(const Texture2D& tex, const SamplerState& sp, int level, double s, double t) {
   const TextureLevel& l = tex.level(level);
@@ -64,7 +64,7 @@ glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn,
   const TextureLevel& base = tex.level(0);
   const int q = int(std::floor(std::log2(double(std::max(base.width, base.height)))));
   if (usesMipmaps(sp.minFilter) && tex.levels() < q + 1) return glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  // Eq. 8.6: λ' = λ_base + bias, then clamped to [min_lod, max_lod] (a NaN λ_base: min_lod).
+  // §8.14.1: λ' = λ_base + bias, then clamped to [min_lod, max_lod] (a NaN λ_base: min_lod).
   const double biased = lodBase + double(sp.lodBias);
   const double lambda = biased > sp.maxLod ? sp.maxLod : biased >= sp.minLod ? biased : double(sp.minLod);
   glm::dvec4 c;
@@ -77,11 +77,11 @@ glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn,
     if (!usesMipmaps(f)) {
       c = filterLevel(tex, sp, within, 0, s, t);
     } else if (f == TextureFilter::NearestMipmapNearest || f == TextureFilter::LinearMipmapNearest) {
-      // Eq. 8.14 (level_base 0): d = 0 for λ ≤ ½, ⌈λ + ½⌉ − 1 while λ ≤ q + ½, else q.
+      // §8.14.3 (level_base 0): d = 0 for λ ≤ ½, ⌈λ + ½⌉ − 1 while λ ≤ q + ½, else q.
       const int d = lambda <= 0.5 ? 0 : lambda <= q + 0.5 ? int(std::ceil(lambda + 0.5)) - 1 : q;
       c = filterLevel(tex, sp, within, d, s, t);
     } else {
-      // Eq. 8.15–8.16: d1 = ⌊λ⌋ and d2 = d1 + 1, both q from λ ≥ q on; τ = (1 − frac λ)·τ1 + frac λ·τ2.
+      // §8.14.3: d1 = ⌊λ⌋ and d2 = d1 + 1, both q from λ ≥ q on; τ = (1 − frac λ)·τ1 + frac λ·τ2.
       const int d1 = lambda >= q ? q : int(std::floor(lambda));
       const int d2 = lambda >= q ? q : d1 + 1;
       const double f2 = lambda - std::floor(lambda);

@@ -34,7 +34,7 @@ TextureFilter parseTextureFilter(const std::string& name) {
                               "nearest_mipmap_linear, linear_mipmap_linear)");
 }
 
-// §8.24, eq. 8.17: c_l = c_s / 12.92 for c_s ≤ 0.04045, else ((c_s + 0.055) / 1.055)^2.4.
+// §8.24: c_l = c_s / 12.92 for c_s ≤ 0.04045, else ((c_s + 0.055) / 1.055)^2.4.
 double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 // Its inverse (§17.3.7's encoding for sRGB framebuffers): 12.92·c_l below 0.0031308, else
 // 1.055·c_l^(1/2.4) − 0.055.
