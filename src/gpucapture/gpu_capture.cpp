@@ -200,11 +200,12 @@ int runFrames(const char* tracePath, const char* outPath) {
 }
 
 // NVIDIA's driver keeps compiled shaders in a disk cache, and a shader loaded from it can compute
-// other bits than the same shader compiled afresh (on the H200, driver 580.159.04: the second
-// replay of a scene's trace differed from the first in 3 of 5 scenes, and every replay with the
-// cache off gave the first one's bits). Captures turn the cache off, so that a trace gives the same
-// reads on every run; a caller who sets __GL_SHADER_DISK_CACHE keeps its value.
-void disableShaderDiskCache() {
+// other bits than the same shader compiled afresh (on the H200, driver 580.159.04: cached replays
+// of a scene's trace differed from the first in 3 of 5 scenes). Captures turn the cache off, which
+// removes that difference; replays of shaders calling pow/exp/log still vary now and then
+// (docs/nvidia.md, "The GPU's frames are not reproducible run to run"). A caller who sets
+// __GL_SHADER_DISK_CACHE keeps its value.
+static void disableShaderDiskCache() {
   setenv("__GL_SHADER_DISK_CACHE", "0", /*overwrite=*/0);
   std::cerr << "__GL_SHADER_DISK_CACHE=" << std::getenv("__GL_SHADER_DISK_CACHE") << "\n";
 }
