@@ -51,7 +51,7 @@ class Texture2D {
   // or a byte count that does not match.
   Texture2D(TextureFormat format, int width, int height, std::vector<uint8_t> rgba8);
 
-  // Levels 1 … q, q = ⌊log2(max(w, h))⌋, each max(1, ⌊size/2⌋) per dimension (§8.14.3), by the
+  // Levels 1 … q (lastMipmapLevel), each max(1, ⌊size/2⌋) per dimension (§8.14.3), by the
   // box filter of generateMipmapLevel; replaces any levels there were.
   void generateMipmaps();
   // Level i (1 ≤ i ≤ levels()) given as GL's glTexImage2D for that level would: its size must be
@@ -69,6 +69,9 @@ class Texture2D {
   TextureFormat format_;
   std::vector<TextureLevel> levels_;
 };
+
+// q = ⌊log2 max(w, h)⌋, the last mipmap level of a w × h texture (§8.14.3).
+int lastMipmapLevel(int width, int height);
 
 // The next level down from `source` (glGenerateMipmap; GL asks for no particular filter and
 // recommends a box): texel (i, j) averages source texels 2i, 2i + 1 × 2j, 2j + 1 (an index past

@@ -62,7 +62,7 @@ glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn,
   // §8.17: a mipmap minification filter needs every level down to 1×1 (q + 1 of them), else the
   // texture is incomplete, and an incomplete texture reads as (0, 0, 0, 1) (§11.1.3.5).
   const TextureLevel& base = tex.level(0);
-  const int q = int(std::floor(std::log2(double(std::max(base.width, base.height)))));
+  const int q = lastMipmapLevel(base.width, base.height);
   if (usesMipmaps(sp.minFilter) && tex.levels() < q + 1) return glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
   // §8.14.1: λ' = λ_base + bias, then clamped to [min_lod, max_lod] (a NaN λ_base: min_lod).
   const double biased = lodBase + double(sp.lodBias);

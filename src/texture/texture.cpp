@@ -40,6 +40,18 @@ double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 
 // 1.055·c_l^(1/2.4) − 0.055.
 double linearToSrgb(double c) { return c < 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
 
+namespace {
+// A stored byte as the filter reads it: k / (2^8 − 1) (§2.3.5.1), the colour channels of an sRGB
+// texture then decoded (§8.24); alpha is linear in both formats. Texel reads and mipmap
+// generation both go through it.
+double decodeChannel(TextureFormat format, uint8_t byte, int channel) {
+  const double c = byte / 255.0;
+  return format == TextureFormat::Srgb8Alpha8 && channel < 3 ? srgbToLinear(c) : c;
+}
+}  // namespace
+
+int lastMipmapLevel(int width, int height) { return std::bit_width(unsigned(std::max(width, height))) - 1; }
+
 Texture2D::Texture2D(TextureFormat format, int width, int height, std::vector<uint8_t> rgba8) : format_(format) {
   if (width < 1 || height < 1)
     throw std::invalid_argument("texture size " + std::to_string(width) + "x" + std::to_string(height) + ": must be at least 1x1");
@@ -53,9 +65,8 @@ Texture2D::Texture2D(TextureFormat format, int width, int height, std::vector<ui
 glm::dvec4 Texture2D::texel(int level, int i, int j) const {
   const TextureLevel& l = levels_[size_t(level)];
   const uint8_t* p = &l.texels[(size_t(j) * size_t(l.width) + size_t(i)) * 4];
-  glm::dvec4 c(p[0] / 255.0, p[1] / 255.0, p[2] / 255.0, p[3] / 255.0);  // §2.3.5.1: k / (2^8 − 1)
-  if (format_ == TextureFormat::Srgb8Alpha8)
-    for (int k = 0; k < 3; ++k) c[k] = srgbToLinear(c[k]);
+  glm::dvec4 c;
+  for (int k = 0; k < 4; ++k) c[k] = decodeChannel(format_, p[k], k);
   return c;
 }
 
@@ -66,8 +77,7 @@ TextureLevel generateMipmapLevel(TextureFormat format, const TextureLevel& sourc
   out.texels.resize(size_t(out.width) * size_t(out.height) * 4);
   const bool srgb = format == TextureFormat::Srgb8Alpha8;
   auto read = [&](int i, int j, int k) {
-    const double c = source.texels[(size_t(j) * size_t(source.width) + size_t(i)) * 4 + size_t(k)] / 255.0;
-    return srgb && k < 3 ? srgbToLinear(c) : c;
+    return decodeChannel(format, source.texels[(size_t(j) * size_t(source.width) + size_t(i)) * 4 + size_t(k)], k);
   };
   for (int j = 0; j < out.height; ++j)
     for (int i = 0; i < out.width; ++i) {
@@ -86,7 +96,7 @@ TextureLevel generateMipmapLevel(TextureFormat format, const TextureLevel& sourc
 
 void Texture2D::generateMipmaps() {
   levels_.resize(1);
-  const int q = std::bit_width(unsigned(std::max(levels_[0].width, levels_[0].height))) - 1;
+  const int q = lastMipmapLevel(levels_[0].width, levels_[0].height);
   for (int i = 1; i <= q; ++i) levels_.push_back(generateMipmapLevel(format_, levels_.back()));
 }
 
