@@ -29,6 +29,30 @@ inline SceneObject quad(glm::vec3 position, float scale, glm::vec4 color, glm::v
   return o;
 }
 
+// A 8 × 8 RGBA8 texture whose texels all differ, alpha from 0 to 252 (the closed forms' fragment
+// lists carry the sampled colour and alpha), with its mipmaps.
+inline std::shared_ptr<const Texture2D> patternTexture() {
+  std::vector<uint8_t> texels(8 * 8 * 4);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      uint8_t* t = &texels[size_t(j * 8 + i) * 4];
+      t[0] = uint8_t(32 * i + 16), t[1] = uint8_t(255 - 30 * j), t[2] = uint8_t((i * j * 11) % 256), t[3] = uint8_t(4 * ((i * 37 + j * 91) % 64));
+    }
+  auto texture = std::make_shared<Texture2D>(TextureFormat::Rgba8, 8, 8, std::move(texels));
+  texture->generateMipmaps();
+  return texture;
+}
+
+// quad() with texture coordinates 0..repeat over it and the pattern texture (trilinear).
+inline SceneObject texturedQuad(glm::vec3 position, float scale, glm::vec4 color, glm::vec3 rotation, float repeat) {
+  SceneObject o = quad(position, scale, color, rotation);
+  o.mesh.texcoords = {{0, 0}, {repeat, 0}, {repeat, repeat}, {0, repeat}};
+  o.texture = patternTexture();
+  o.textureFile = "pattern";
+  o.sampler.minFilter = TextureFilter::LinearMipmapLinear;
+  return o;
+}
+
 // A size × size view of full-screen layers at z ≤ 0 from the camera at (0, 0, 2), over
 // `background`: the hand-derived cases.
 inline Scene layerScene(int size, glm::vec3 background) {
@@ -57,6 +81,11 @@ inline Scene testScene() {
   s.objects.push_back(quad({0.0f, -0.4f, -0.5f}, 2.5f, {0.2f, 0.2f, 1.0f, 0.9f}, {20, 0, 10}));
   s.objects.push_back(quad({-0.3f, -0.2f, 0.6f}, 1.5f, {1.0f, 1.0f, 1.0f, 0.05f}));
   s.objects.push_back(quad({0.2f, 0.1f, -2.6f}, 1.0f, {0.5f, 0.5f, 0.5f, 0.95f}));  // behind the backdrop
+  // Textured: the texels' alpha (0 included) in the fragment lists; an alpha-tested one whose
+  // discarded texels are no layer.
+  s.objects.push_back(texturedQuad({0.4f, -0.3f, 0.8f}, 2.0f, {1.0f, 1.0f, 1.0f, 1.0f}, {0, -25, 0}, 3.0f));
+  s.objects.push_back(texturedQuad({-0.5f, 0.4f, 0.3f}, 1.8f, {0.9f, 0.8f, 1.0f, 1.0f}, {15, 0, 0}, 1.5f));
+  s.objects.back().alphaTest = 0.5f;
   SceneObject cloud;
   cloud.type = ObjectType::Particles;
   cloud.particleCount = 12;

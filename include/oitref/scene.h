@@ -10,6 +10,12 @@
 //       {"type":"particle", "count":32, "seed":1, "color_override":[r,g,b,a],
 //        "position":[x,y,z], "rotation":[x,y,z], "scale":s, "size":t} ] }
 //
+// Textures (either object type): "texture":"leaf.png" (else a mesh's material's diffuse texture,
+// beside the model), "texture_format":"rgba8"|"srgb8_alpha8" (default rgba8: the file's bytes
+// are the values), "sampler":{"min_filter":"linear_mipmap_linear", "mag_filter":"linear",
+// "wrap_s":"repeat", "wrap_t":"repeat", "lod_bias":0} (GL's defaults where absent), and
+// "alpha_test":0.5 (discard where the textured alpha is below it).
+//
 // A particle cloud's centres lie in the unit ball placed by the model matrix (so "rotation"
 // turns the cloud about its position); each particle is a square of side "size" facing the camera.
 //
@@ -20,6 +26,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -29,6 +36,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
+
+#include "oitref/texture.h"
 
 namespace oitref {
 
@@ -45,11 +54,14 @@ struct Camera {
 };
 
 // A mesh as loaded, in object space: triangles, per-vertex straight RGBA (white when the file
-// has none).
+// has none), texture coordinates (the first set; empty when the file has none) and the diffuse
+// texture its materials name (resolved against the model's folder; empty for none).
 struct TriangleMesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec4> colors;
+  std::vector<glm::vec2> texcoords;
   std::vector<uint32_t> indices;  // three per triangle
+  std::string texturePath;
 };
 
 enum class ObjectType : uint8_t { Mesh, Particles };
@@ -72,8 +84,17 @@ struct SceneObject {
   uint32_t seed = 1;
   float particleSize = 0.5f;
 
+  // A texture multiplied into the colour (shadeSurface), from "texture" or the mesh's material:
+  // sampled at the mesh's texture coordinates, or a particle's quad coordinates. textureFile
+  // names it in reports; "alpha_test" discards fragments whose alpha is below the threshold.
+  std::shared_ptr<const Texture2D> texture;
+  std::string textureFile;
+  TextureFormat textureFormat = TextureFormat::Rgba8;
+  SamplerState sampler;
+  std::optional<float> alphaTest;
+
   glm::mat4 modelMatrix() const;  // T·Rz·Ry·Rx·S
-  bool isTransparent() const;     // the override, else alpha < 1 anywhere
+  bool isTransparent() const;     // the override, else alpha < 1 anywhere (vertex, override or texel)
 };
 
 struct Scene {

@@ -14,7 +14,8 @@
 namespace oitref {
 
 // Per-vertex attributes: straight RGBA (the colour override, else the mesh's vertex colour),
-// then the quad uv of particles (0, 0 for meshes).
+// then the texture coordinates (s, t): a mesh's first set (0, 0 without one), a particle's quad
+// corner.
 inline constexpr int kSceneAttributeCount = 6;
 
 struct ScenePart {
@@ -37,13 +38,26 @@ SceneGeometry buildSceneGeometry(const Scene& scene);
 // The vertex stage: a part's triangles in clip space for the rasterizer.
 Geometry toClipGeometry(const ScenePart& part, const glm::mat4& viewProjection);
 
-// The object's straight RGBA at a surface point, from its interpolated attributes. Particles
-// multiply alpha by a soft radial falloff of the quad uv: (1 − r²)² inside the inscribed
-// circle (r = 1 at its edge), 0 outside. Only +, −, × are used: the same bits on every machine.
-// Inline: every transparent fragment calls it. Attribute k at a[k · stride].
-// shadeSurfaceReads(object) is how many of the leading attributes it reads for the object.
-inline int shadeSurfaceReads(const SceneObject& object) { return object.type == ObjectType::Particles ? kSceneAttributeCount : 4; }
-inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int stride = 1) {
+// The object's texture at (s, t), with the level of detail of the texture coordinates'
+// derivatives d over the quad (FragmentInput::derivatives: ∂s/∂x, ∂t/∂x, ∂s/∂y, ∂t/∂y at
+// d[i · stride]; level 0's λ = 0 without them), by the `exact` sampling rule (sampleTexture).
+glm::vec4 sampleSurfaceTexture(const SceneObject& object, float s, float t, const double* d, int stride);
+
+// The object's straight RGBA at a surface point, from its interpolated attributes and the
+// texture coordinates' derivatives. Particles multiply alpha by a soft radial falloff of the quad
+// uv: (1 − r²)² inside the inscribed circle (r = 1 at its edge), 0 outside (only +, −, ×: the
+// same bits on every machine). A textured object multiplies the colour by the texel, channel by
+// channel in fp32 (a shader's `colour * texture(sampler, uv)`). Inline: every transparent
+// fragment calls it. Attribute k at a[k · stride].
+// shadeSurfaceReads(object) is how many of the leading attributes it reads for the object, and
+// shadeSurfaceDerivatives(object) the first of the two whose derivatives it reads (−1: none):
+// a fragment program's attributesRead and derivativesOf.
+inline int shadeSurfaceReads(const SceneObject& object) {
+  return object.type == ObjectType::Particles || object.texture ? kSceneAttributeCount : 4;
+}
+inline int shadeSurfaceDerivatives(const SceneObject& object) { return object.texture ? 4 : -1; }
+inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int stride = 1, const double* derivatives = nullptr,
+                              int derivativeStride = 1) {
   glm::vec4 c(a[0], a[stride], a[2 * stride], a[3 * stride]);
   if (object.type == ObjectType::Particles) {
     const float x = 2.0f * a[4 * stride] - 1.0f, y = 2.0f * a[5 * stride] - 1.0f;
@@ -51,7 +65,13 @@ inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int str
     const float falloff = r2 < 1.0f ? (1.0f - r2) * (1.0f - r2) : 0.0f;
     c.a = c.a * falloff;
   }
+  if (object.texture) c = c * sampleSurfaceTexture(object, a[4 * stride], a[5 * stride], derivatives, derivativeStride);
   return c;
+}
+// The alpha test of an object that has one ("alpha_test"): its fragments whose shaded alpha is
+// below the threshold (or NaN) are discarded, as a shader's `if (!(c.a >= threshold)) discard;`.
+inline bool surfaceDiscards(const SceneObject& object, const glm::vec4& shaded) {
+  return object.alphaTest && !(shaded.a >= *object.alphaTest);
 }
 
 }  // namespace oitref

@@ -31,6 +31,12 @@ struct FragmentInput {
   const float* attributes = nullptr;
   int attributeCount = 0;
   int attributeStride = 1;
+  // Where the program asks for them (FragmentProgram::derivativesOf = k): the derivatives of
+  // attributes k and k + 1 (texture coordinates s, t) over the fragment's 2×2 quad, at
+  // derivatives[i · derivativeStride] for i = 0 ∂s/∂x, 1 ∂t/∂x, 2 ∂s/∂y, 3 ∂t/∂y; null otherwise
+  // (and in full-screen passes).
+  const double* derivatives = nullptr;
+  int derivativeStride = 1;
 
   float attribute(int i) const { return attributes[i * attributeStride]; }
   glm::vec2 vec2At(int i) const { return {attribute(i), attribute(i + 1)}; }
@@ -53,6 +59,8 @@ struct FragmentBatch {
   const float* attributes = nullptr;
   int attributeCount = 0;
   int attributeStride = 0;
+  const double* derivatives = nullptr;  // fragment i's at derivatives[c · derivativeStride + i]
+  int derivativeStride = 0;
   bool frontFacing = true;
   uint32_t primitiveId = 0;
   uint32_t drawId = 0;
@@ -70,6 +78,8 @@ struct FragmentBatch {
     in.attributes = attributes ? attributes + i : nullptr;  // none: full-screen passes, attribute-less draws
     in.attributeCount = attributeCount;
     in.attributeStride = attributeStride;
+    in.derivatives = derivatives ? derivatives + i : nullptr;
+    in.derivativeStride = derivativeStride;
     return in;
   }
   // The batch of the one fragment `in` (its fields point into `in`).
@@ -83,6 +93,8 @@ struct FragmentBatch {
     b.attributes = in.attributes;
     b.attributeCount = in.attributeCount;
     b.attributeStride = in.attributeStride;
+    b.derivatives = in.derivatives;
+    b.derivativeStride = in.derivativeStride;
     b.frontFacing = in.frontFacing;
     b.primitiveId = in.primitiveId;
     b.drawId = in.drawId;
@@ -233,6 +245,10 @@ struct FragmentProgram {
   // the shader had run (its bits are the same either way): peeling's later passes discard most of
   // their fragments so. The shader must still apply the test itself: it is the oracle.
   ShaderDepthTest discardTest = {};
+  // The first of two attributes (texture coordinates s, t) whose derivatives over the fragment's
+  // 2×2 quad the shader reads (FragmentInput::derivatives; implicit level of detail, GL 4.6
+  // §8.14.1); −1: none. It must be below attributesRead − 1 where that is set.
+  int derivativesOf = -1;
 };
 
 // A program whose per-fragment and batch shaders are the one callable

@@ -17,6 +17,7 @@
 #include "methods/method_common.h"
 #include "methods/methods.h"
 #include "oitref/fp_environment.h"
+#include "util/round_to_float.h"
 
 namespace oitref::methods {
 namespace {
@@ -112,16 +113,69 @@ class EmbreeScene {
   RTCScene scene_;
 };
 
-glm::vec4 shadeHit(const FrameContext& c, const Hit& h) {
+// The line through a pixel centre: from the camera along the pixel's line from the near plane
+// (NDC z = −1) to the far plane (z = 1); when far/near is so large that the far plane's point is
+// at infinity in the fp32 projection (w = 0: an infinite direction), to NDC z = 0 (view depth
+// 2·near·far / (near + far)) instead.
+struct PixelRays {
+  glm::dmat4 inverse;
+  glm::dvec3 origin;
+  int width, height;
+  glm::dvec3 direction(int x, int y) const {
+    const glm::dvec2 ndc(2.0 * (x + 0.5) / width - 1.0, 2.0 * (y + 0.5) / height - 1.0);
+    const glm::dvec4 a = inverse * glm::dvec4(ndc, -1.0, 1.0), b = inverse * glm::dvec4(ndc, 1.0, 1.0);
+    glm::dvec3 d = glm::dvec3(b) / b.w - glm::dvec3(a) / a.w;
+    if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) {
+      const glm::dvec4 m = inverse * glm::dvec4(ndc, 0.0, 1.0);
+      d = glm::dvec3(m) / m.w - glm::dvec3(a) / a.w;
+    }
+    return d;
+  }
+};
+
+// Attribute k of a part's triangle at barycentrics w (of its vertices 0, 1, 2), rounded to fp32.
+float attributeAt(const ScenePart& part, unsigned primitive, const double w[3], int k) {
+  double a = 0;
+  for (int i = 0; i < 3; ++i) a += w[i] * double(part.attributes[part.indices[3 * primitive + size_t(i)] * kSceneAttributeCount + size_t(k)]);
+  return util::roundToFloat(a);
+}
+
+// The texture coordinates' derivatives at pixel (x, y) on the hit's triangle, by the
+// rasterizer's rule (FragmentStage::quadDerivatives): the coordinates where the lines through
+// the pixel centres of its 2×2 quad meet the triangle's plane (inside the triangle or not), in
+// fp32, differenced in double; ∂s/∂x, ∂t/∂x, ∂s/∂y, ∂t/∂y.
+void texcoordDerivatives(const ScenePart& part, unsigned primitive, const PixelRays& rays, int x, int y, double out[4]) {
+  glm::dvec3 p[3];
+  for (int i = 0; i < 3; ++i) p[i] = glm::dvec3(part.positions[part.indices[3 * primitive + size_t(i)]]);
+  const glm::dvec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  auto at = [&](int px, int py, float st[2]) {  // Möller–Trumbore without the inside test
+    const glm::dvec3 d = rays.direction(px, py);
+    const glm::dvec3 q = glm::cross(d, e2);
+    const double det = glm::dot(e1, q);
+    const glm::dvec3 s = rays.origin - p[0];
+    const double u = glm::dot(s, q) / det, v = glm::dot(d, glm::cross(s, e1)) / det;
+    const double w[3] = {1.0 - u - v, u, v};
+    st[0] = attributeAt(part, primitive, w, 4), st[1] = attributeAt(part, primitive, w, 5);
+  };
+  const int x0 = x & ~1, y0 = y & ~1;
+  float left[2], right[2], bottom[2], top[2];
+  at(x0, y, left), at(x0 + 1, y, right), at(x, y0, bottom), at(x, y0 + 1, top);
+  for (int c = 0; c < 2; ++c) out[c] = double(right[c]) - double(left[c]), out[2 + c] = double(top[c]) - double(bottom[c]);
+}
+
+// The hit's straight colour (shadeSurface), and whether its object's alpha test discards it.
+glm::vec4 shadeHit(const FrameContext& c, const Hit& h, const PixelRays& rays, int x, int y, bool& discarded) {
   const ScenePart& part = c.geometry.parts[h.part];
+  const SceneObject& object = c.scene.objects[part.objectIndex];
   float attributes[kSceneAttributeCount];
   const double w[3] = {1.0 - double(h.u) - double(h.v), double(h.u), double(h.v)};
-  for (int k = 0; k < kSceneAttributeCount; ++k) {
-    double a = 0;
-    for (int i = 0; i < 3; ++i) a += w[i] * double(part.attributes[part.indices[3 * h.primitive + size_t(i)] * kSceneAttributeCount + size_t(k)]);
-    attributes[k] = float(a);
-  }
-  return shadeSurface(c.scene.objects[part.objectIndex], attributes);
+  for (int k = 0; k < kSceneAttributeCount; ++k) attributes[k] = attributeAt(part, h.primitive, w, k);
+  double derivatives[4];
+  const bool textured = shadeSurfaceDerivatives(object) >= 0;
+  if (textured) texcoordDerivatives(part, h.primitive, rays, x, y, derivatives);
+  const glm::vec4 color = shadeSurface(object, attributes, 1, textured ? derivatives : nullptr);
+  discarded = surfaceDiscards(object, color);
+  return color;
 }
 
 class Raycast final : public Method {
@@ -144,7 +198,8 @@ class Raycast final : public Method {
     const auto t1 = std::chrono::steady_clock::now();
     const Camera& cam = c.scene.camera;
     const glm::dmat4 view(cam.view());
-    const glm::dmat4 inverse = glm::inverse(glm::dmat4(cam.projection(float(c.width) / float(c.height))) * view);
+    const PixelRays rays{glm::inverse(glm::dmat4(cam.projection(float(c.width) / float(c.height))) * view),
+                         glm::dvec3(cam.position), c.width, c.height};
     const glm::dvec3 forward = glm::normalize(glm::dvec3(cam.target - cam.position));
     Image result8(makeFormat(FormatId::RGBA8), c.width, c.height), resultFloat(makeFormat(FormatId::RGBA32F), c.width, c.height);
     c.renderer.parallelFor(size_t(c.height), [&](size_t row) {
@@ -152,18 +207,7 @@ class Raycast final : public Method {
       const DefaultFloatingPoint fp;
       std::vector<Hit> hits;
       for (int x = 0; x < c.width; ++x) {
-        const glm::dvec2 ndc(2.0 * (x + 0.5) / c.width - 1.0, 2.0 * (y + 0.5) / c.height - 1.0);
-        // Along the pixel's line from the near plane (NDC z = −1) to the far plane (z = 1); when
-        // far/near is so large that the far plane's point is at infinity in the fp32
-        // projection (w = 0: an infinite direction), to NDC z = 0 (view depth 2·near·far /
-        // (near + far)) instead.
-        const glm::dvec4 a = inverse * glm::dvec4(ndc, -1.0, 1.0), b = inverse * glm::dvec4(ndc, 1.0, 1.0);
-        const glm::dvec3 origin = glm::dvec3(cam.position);
-        glm::dvec3 direction = glm::dvec3(b) / b.w - glm::dvec3(a) / a.w;
-        if (!std::isfinite(direction.x) || !std::isfinite(direction.y) || !std::isfinite(direction.z)) {
-          const glm::dvec4 m = inverse * glm::dvec4(ndc, 0.0, 1.0);
-          direction = glm::dvec3(m) / m.w - glm::dvec3(a) / a.w;
-        }
+        const glm::dvec3 origin = rays.origin, direction = rays.direction(x, y);
         if (!std::isfinite(direction.x) || !std::isfinite(direction.y) || !std::isfinite(direction.z))
           throw std::runtime_error("raycast: the camera gives no finite ray through pixel (" + std::to_string(x) + ", " +
                                    std::to_string(y) + ")");
@@ -173,16 +217,23 @@ class Raycast final : public Method {
         std::sort(hits.begin(), hits.end(), [](const Hit& p, const Hit& q) {
           return std::tie(p.viewDepth, p.part, p.primitive) < std::tie(q.viewDepth, q.part, q.primitive);
         });
+        // The nearest opaque hit that its alpha test keeps ends the list; discarded hits are no
+        // surface at all.
         glm::dvec3 color(c.scene.background);
         size_t end = hits.size();
-        for (size_t i = 0; i < hits.size(); ++i)
-          if (!c.geometry.parts[hits[i].part].transparent) {
-            color = glm::dvec3(glm::vec3(shadeHit(c, hits[i])));
-            end = i;
-            break;
-          }
+        bool discarded = false;
+        for (size_t i = 0; i < hits.size(); ++i) {
+          if (c.geometry.parts[hits[i].part].transparent) continue;
+          const glm::vec4 s = shadeHit(c, hits[i], rays, x, y, discarded);
+          if (discarded) continue;
+          color = glm::dvec3(glm::vec3(s));
+          end = i;
+          break;
+        }
         for (size_t i = end; i-- > 0;) {
-          const glm::vec4 s = shadeHit(c, hits[i]);
+          if (!c.geometry.parts[hits[i].part].transparent) continue;  // an opaque hit discarded
+          const glm::vec4 s = shadeHit(c, hits[i], rays, x, y, discarded);
+          if (discarded) continue;
           color = glm::dvec3(glm::vec3(s)) * double(s.a) + color * (1.0 - double(s.a));
         }
         const glm::vec4 out(glm::vec3(color), 1.0f);

@@ -131,8 +131,18 @@ class Dualpeel final : public Method {
       o.write(0, f);
       o.write(1, f);
     });
+    // The occlusion query also ends the loop when every back layer of a pass has α = 0 (fully
+    // transparent texels), with layers still inside some pixels' ranges: the last pass's range
+    // target says whether any fragment was left (a range other than the cleared (−1, −1)).
+    bool layersLeft = false;
+    const Image& rangeLeft = *depth[current];
+    for (int y = 0; y < rangeLeft.height() && !layersLeft; ++y)
+      for (int x = 0; x < rangeLeft.width() && !layersLeft; ++x) layersLeft = rangeLeft.fetch(x, y).y >= 0.0f;
     result.facts.emplace_back("peeling passes", std::to_string(pass));
-    result.facts.emplace_back("all layers peeled", exhausted ? "yes" : "no: raise passes");
+    result.facts.emplace_back("all layers peeled", !exhausted     ? "no: raise passes"
+                                                   : layersLeft ? "no: a pass peeled only fully transparent back layers, "
+                                                                  "which the occlusion query counts as nothing"
+                                                                : "yes");
     t.finish(result, "opaque");
     return result;
   }

@@ -98,11 +98,12 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
     if (part.transparent && !everything) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
     FragmentProgram program = programOf([&object](const FragmentInput& in, FragmentOutput& out) {
-      const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride);
+      const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride);
+      if (surfaceDiscards(object, c)) return out.discard();
       out.write(0, glm::vec4(glm::vec3(c), 1.0f));
       out.write(1, glm::vec4(glm::vec3(c), 1.0f));
     });
-    program.attributesRead = shadeSurfaceReads(object);
+    withSurfaceTest(program, object, st);
     draws.push_back({&clipGeometry(part), std::move(program), uint32_t(part.objectIndex)});
   }
   report.stats = context_.renderer.drawSequence(fb, st, draws);
@@ -117,6 +118,29 @@ const Geometry& PassRunner::clipGeometry(const ScenePart& part) {
   if (clipGeometry_.size() != parts.size()) clipGeometry_.resize(parts.size());
   if (!clipGeometry_[i]) clipGeometry_[i] = std::make_unique<Geometry>(toClipGeometry(part, viewProjection()));
   return *clipGeometry_[i];
+}
+
+void PassRunner::withSurfaceTest(FragmentProgram& program, const SceneObject& object, const PipelineState& state) {
+  if (program.attributesRead < 0) program.attributesRead = shadeSurfaceReads(object);
+  program.derivativesOf = shadeSurfaceDerivatives(object);
+  if (!object.alphaTest || program.mayDiscard) return;
+  program.mayDiscard = true;
+  const bool writesDepth = state.depth.testEnabled && state.depth.writeMask;
+  if (!program.pure && !writesDepth) program.earlyFragmentTests = true;
+}
+
+FragmentProgram PassRunner::alphaTestedPositionProgram(const SceneObject& object, const PipelineState& state,
+                                                      PositionShader shader) {
+  FragmentProgram program = programOf([&object, shader](const FragmentInput& in, FragmentOutput& out) {
+    if (surfaceDiscards(object, shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride)))
+      return out.discard();
+    FragmentBatchOutput one;
+    one.reset(1);
+    shader(FragmentBatch::of(in), one);
+    one.load(0, out);
+  });
+  withSurfaceTest(program, object, state);
+  return program;
 }
 
 void PassRunner::drawTransparent(const std::string& name, Framebuffer& fb, const PipelineState& state,

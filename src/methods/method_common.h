@@ -84,9 +84,13 @@ class PassRunner {
   void transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const Shader& shader,
                        bool mayDiscard = false, bool pure = false) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
-      return programOf([&object, &shader](const FragmentInput& in, FragmentOutput& out) {
-        shader(in, shadeSurface(object, in.attributes, in.attributeStride), out);
+      FragmentProgram program = programOf([&object, &shader](const FragmentInput& in, FragmentOutput& out) {
+        const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride);
+        if (surfaceDiscards(object, c)) return out.discard();
+        shader(in, c, out);
       }, mayDiscard, false, false, pure);
+      withSurfaceTest(program, object, state);
+      return program;
     });
   }
   // The same with a shader over a batch of fragments of distinct pixels (FragmentBatch):
@@ -103,20 +107,42 @@ class PassRunner {
           [&object, &shader](const FragmentBatch& in, FragmentBatchOutput& out) {
             if (in.count <= 0) return;  // never: it tells the compiler the rows below are set
             glm::vec4 colors[kShaderBatch];
-            for (int i = 0; i < in.count; ++i) colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride);
-            shader(in, colors, out);
+            for (int i = 0; i < in.count; ++i)
+              colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride,
+                                       in.derivatives ? in.derivatives + i : nullptr, in.derivativeStride);
+            if (!object.alphaTest) return shader(in, colors, out);
+            // The alpha test's survivors, each as a batch of one (the shader must not see the
+            // others: it may store what it sees).
+            for (int i = 0; i < in.count; ++i) {
+              if (surfaceDiscards(object, colors[i])) {
+                out.discard(i);
+                continue;
+              }
+              const FragmentInput one = in[i];
+              FragmentBatchOutput oneOut;
+              oneOut.reset(1);
+              shader(FragmentBatch::of(one), &colors[i], oneOut);
+              FragmentOutput result;
+              oneOut.load(0, result);
+              out.store(i, result);
+            }
           },
           mayDiscard, pure);
       program.discardTest = discardTest;
+      withSurfaceTest(program, object, state);
       return program;
     });
   }
   // A pass whose shader reads nothing of the surface — only each fragment's position, depths and
-  // ids: shader(const FragmentBatch& in, FragmentBatchOutput& out). No attribute is interpolated.
+  // ids: shader(const FragmentBatch& in, FragmentBatchOutput& out). No attribute is interpolated,
+  // except for an alpha-tested object: its fragments that fail the test are discarded first, as
+  // in every other pass (a discarded texel is no surface in any pass).
   template <typename BatchShader>
   void transparentPositionPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                                const BatchShader& shader) {
-    drawTransparent(name, fb, state, [&](const SceneObject&) {
+    drawTransparent(name, fb, state, [&](const SceneObject& object) {
+      if (object.alphaTest)
+        return alphaTestedPositionProgram(object, state, [&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); });
       FragmentProgram program = programOfBatch([&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); });
       program.attributesRead = 0;
       return program;
@@ -174,6 +200,15 @@ class PassRunner {
   void drawTransparent(const std::string& name, Framebuffer& fb, const PipelineState& state,
                        const std::function<FragmentProgram(const SceneObject&)>& programFor);
   PipelineState compositeState() const;  // compositeBlend() on both presented targets
+  // What a program through shadeSurface declares for `object` (scene_geometry.h): the attributes
+  // and derivatives it reads and, for an alpha-tested object, that it may discard. A shader that
+  // did not discard before keeps its early depth test where the pass writes no depth (as GLSL's
+  // layout(early_fragment_tests) would: a shader that stores what it sees — the A-buffer's lists
+  // — must not see the fragments behind the opaque surfaces).
+  static void withSurfaceTest(FragmentProgram& program, const SceneObject& object, const PipelineState& state);
+  using PositionShader = std::function<void(const FragmentBatch&, FragmentBatchOutput&)>;
+  static FragmentProgram alphaTestedPositionProgram(const SceneObject& object, const PipelineState& state,
+                                                    PositionShader shader);
 
   std::vector<std::unique_ptr<Geometry>> clipGeometry_;  // per part of context_.geometry, on first use
 };

@@ -64,14 +64,21 @@ class Sorted final : public Method {
     const PipelineState st = transparentState(context.profile, overBlend());
     const auto t0 = std::chrono::steady_clock::now();
     PassReport report{"sorted transparent", 0, {}};
-    if (!order.empty())
-      report.stats = context.renderer.draw(fb, st, toClipGeometry(merged, run.viewProjection()),
-                                           {[&](const FragmentInput& in, FragmentOutput& out) {
-                                             const SceneObject& o = context.scene.objects[objectOf[in.primitiveId]];
-                                             const glm::vec4 c = shadeSurface(o, in.attributes, in.attributeStride);
-                                             out.write(0, c);
-                                             out.write(1, c);
-                                           }});
+    // The objects' shading, chosen per fragment by its triangle; the draw declares what any of
+    // them needs (texture coordinates' derivatives, the alpha test's discard).
+    FragmentProgram program{[&](const FragmentInput& in, FragmentOutput& out) {
+      const SceneObject& o = context.scene.objects[objectOf[in.primitiveId]];
+      const glm::vec4 c = shadeSurface(o, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride);
+      if (surfaceDiscards(o, c)) return out.discard();
+      out.write(0, c);
+      out.write(1, c);
+    }};
+    for (size_t object : objectOf) {
+      const SceneObject& o = context.scene.objects[object];
+      program.derivativesOf = std::max(program.derivativesOf, shadeSurfaceDerivatives(o));
+      program.mayDiscard = program.mayDiscard || o.alphaTest.has_value();
+    }
+    if (!order.empty()) report.stats = context.renderer.draw(fb, st, toClipGeometry(merged, run.viewProjection()), program);
     report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     result.passes.push_back(report);
     result.facts.emplace_back("sorted triangles", std::to_string(order.size()));

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cstring>
+#include <stdexcept>
+
+#include "util/round_to_float.h"
 
 namespace oitref::detail {
 
@@ -49,6 +52,28 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   vertexAttributes_.assign(3 * n, 0.0);
   attributes_.assign(n, 0.0f);
   batchAttributes_.assign(size_t(kBatch) * n, 0.0f);
+  derivativesOf_ = program.derivativesOf;
+  if (derivativesOf_ >= 0 && size_t(derivativesOf_) + 2 > n)
+    throw std::logic_error("FragmentProgram::derivativesOf names attributes the draw does not interpolate");
+}
+
+void FragmentStage::quadDerivatives(int x, int y, double* out, int stride) const {
+  const int n = int(attributes_.size()), k = derivativesOf_;
+  const double* va = vertexAttributes_.data();
+  // Attributes k, k + 1 at pixel (px, py), as fragment() interpolates them there.
+  auto at = [&](int px, int py, float st[2]) {
+    double w, b0, b1, b2, z;
+    interpolate(px, double(py) * ndcScaleY_ + ndcOffsetY_, w, b0, b1, b2, z);
+    for (int c = 0; c < 2; ++c)
+      st[c] = util::roundToFloat(double(interpolateAttribute(b0, b1, b2, va[k + c], va[n + k + c], va[2 * n + k + c])));
+  };
+  const int x0 = x & ~1, y0 = y & ~1;
+  float left[2], right[2], bottom[2], top[2];
+  at(x0, y, left), at(x0 + 1, y, right), at(x, y0, bottom), at(x, y0 + 1, top);
+  for (int c = 0; c < 2; ++c) {
+    out[c * stride] = double(right[c]) - double(left[c]);
+    out[(2 + c) * stride] = double(top[c]) - double(bottom[c]);
+  }
 }
 
 void FragmentStage::beginTriangle(const SetupTriangle& t) {
@@ -267,6 +292,11 @@ void FragmentStage::shadeAndBlendBatch(int y, int count) {
   batch.frontFacing = triangle_ ? triangle_->frontFacing : true;
   batch.primitiveId = triangle_ ? triangle_->primitiveId : 0;
   batch.drawId = drawId_;
+  if (derivativesOf_ >= 0 && triangle_) {
+    for (int i = 0; i < count; ++i) quadDerivatives(batchX_[i], y, batchDerivatives_ + i, kBatch);
+    batch.derivatives = batchDerivatives_;
+    batch.derivativeStride = kBatch;
+  }
   program_->batch(batch, outputs_);
   counters_.shaded += uint64_t(count);
   int alive = 0;
@@ -439,6 +469,11 @@ bool FragmentStage::shade(FragmentInput& in, double z, const double* perspective
                           bool earlyTestDone) {
   if (!earlyTestDone && !earlyTest(in.x, in.y, z)) return false;
   if (perspectiveBary) interpolateAttributes(perspectiveBary, attributes_.data());
+  if (derivativesOf_ >= 0 && triangle_) {
+    quadDerivatives(in.x, in.y, derivatives_, 1);
+    in.derivatives = derivatives_;
+    in.derivativeStride = 1;
+  }
   out.reset();
   program_->shader(in, out);
   ++counters_.shaded;

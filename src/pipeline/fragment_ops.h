@@ -116,6 +116,13 @@ class FragmentStage {
   // Blends `count` fragments of the batch target by target: outputs_'s fragment index[i] (i when
   // index is null: all of them) at x = xs[i] on row y.
   void blendBatch(int y, int count, const int* xs, const int* index);
+  // The derivatives of attributes derivativesOf_, derivativesOf_ + 1 for the fragment at (x, y)
+  // of the current triangle (FragmentInput::derivatives), at out[i · stride]: GL 4.6 §15.2.3's
+  // fine differences over its 2×2 quad, ∂/∂x between the quad's two pixels of row y, ∂/∂y
+  // between its two of column x. Each of those pixels, covered or not (a helper invocation), has
+  // the attributes this stage's interpolation gives there, rounded to fp32 as an invocation holds
+  // them; the differences are taken in double.
+  void quadDerivatives(int x, int y, double* out, int stride) const;
   void prefetchDepthRow(int y, int x0, int x1) const;
 
   static constexpr int kBatch = FragmentBatch::kCapacity;
@@ -167,6 +174,11 @@ class FragmentStage {
   double batchZ_[kBatch];
   float batchDepth_[kBatch], batchViewDepth_[kBatch];
   std::vector<float> batchAttributes_;    // attributeCount rows of kBatch
+  // FragmentProgram::derivativesOf of the draw, and the derivatives of one fragment (the
+  // per-fragment path) or of a batch (four rows of kBatch).
+  int derivativesOf_ = -1;
+  double derivatives_[4];
+  double batchDerivatives_[4 * kBatch];
 };
 
 }  // namespace oitref::detail

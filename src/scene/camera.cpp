@@ -37,6 +37,11 @@ glm::mat4 SceneObject::modelMatrix() const {
 bool SceneObject::isTransparent() const {
   if (transparentOverride) return *transparentOverride;
   if (type == ObjectType::Particles) return true;  // the soft falloff makes alpha < 1 at the edges
+  if (texture) {  // a texel's alpha below 1 makes the surface's below 1 there
+    const TextureLevel& base = texture->level(0);
+    for (size_t i = 3; i < base.texels.size(); i += 4)
+      if (base.texels[i] < 255) return true;
+  }
   if (colorOverride) return colorOverride->a < 1.0f;
   for (const glm::vec4& c : mesh.colors)
     if (c.a < 1.0f) return true;

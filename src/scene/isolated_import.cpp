@@ -12,8 +12,8 @@
 namespace oitref::detail {
 namespace {
 
-// The child's message: a status byte (0 mesh, 1 error), then the mesh as counts and raw arrays,
-// or the error text.
+// The child's message: a status byte (0 mesh, 1 error), then the mesh as counts and raw arrays
+// (positions, colours, texture coordinates, indices, the texture path's bytes), or the error text.
 void append(std::vector<char>& out, const void* data, size_t bytes) {
   const char* p = static_cast<const char*>(data);
   out.insert(out.end(), p, p + bytes);
@@ -21,31 +21,46 @@ void append(std::vector<char>& out, const void* data, size_t bytes) {
 
 std::vector<char> encode(const TriangleMesh& m) {
   std::vector<char> out(1, 0);
-  const uint64_t vertices = m.positions.size(), indices = m.indices.size();
+  const uint64_t vertices = m.positions.size(), indices = m.indices.size(), texcoords = m.texcoords.size(),
+                 pathBytes = m.texturePath.size();
   append(out, &vertices, 8);
   append(out, &indices, 8);
+  append(out, &texcoords, 8);
+  append(out, &pathBytes, 8);
   append(out, m.positions.data(), vertices * sizeof(glm::vec3));
   append(out, m.colors.data(), vertices * sizeof(glm::vec4));
+  append(out, m.texcoords.data(), texcoords * sizeof(glm::vec2));
   append(out, m.indices.data(), indices * sizeof(uint32_t));
+  append(out, m.texturePath.data(), pathBytes);
   return out;
 }
 
 bool decode(const std::vector<char>& in, TriangleMesh& m) {
-  uint64_t vertices = 0, indices = 0;
-  if (in.size() < 17) return false;
+  uint64_t vertices = 0, indices = 0, texcoords = 0, pathBytes = 0;
+  constexpr size_t kHeader = 33;
+  if (in.size() < kHeader) return false;
   std::memcpy(&vertices, in.data() + 1, 8);
   std::memcpy(&indices, in.data() + 9, 8);
-  const uint64_t need = 17 + vertices * (sizeof(glm::vec3) + sizeof(glm::vec4)) + indices * 4;
-  if (vertices > in.size() || indices > in.size() || in.size() != need) return false;
+  std::memcpy(&texcoords, in.data() + 17, 8);
+  std::memcpy(&pathBytes, in.data() + 25, 8);
+  if (vertices > in.size() || indices > in.size() || texcoords > in.size() || pathBytes > in.size()) return false;
+  const uint64_t need = kHeader + vertices * (sizeof(glm::vec3) + sizeof(glm::vec4)) + texcoords * sizeof(glm::vec2) +
+                        indices * 4 + pathBytes;
+  if (in.size() != need) return false;
   m.positions.resize(vertices);
   m.colors.resize(vertices);
+  m.texcoords.resize(texcoords);
   m.indices.resize(indices);
-  const char* p = in.data() + 17;
+  const char* p = in.data() + kHeader;
   std::memcpy(m.positions.data(), p, vertices * sizeof(glm::vec3));
   p += vertices * sizeof(glm::vec3);
   std::memcpy(m.colors.data(), p, vertices * sizeof(glm::vec4));
   p += vertices * sizeof(glm::vec4);
+  std::memcpy(m.texcoords.data(), p, texcoords * sizeof(glm::vec2));
+  p += texcoords * sizeof(glm::vec2);
   std::memcpy(m.indices.data(), p, indices * 4);
+  p += indices * 4;
+  m.texturePath.assign(p, pathBytes);
   return true;
 }
 

@@ -19,7 +19,8 @@ ScenePart meshPart(const SceneObject& o) {
   const glm::dmat4 model(o.modelMatrix());
   for (size_t v = 0; v < o.mesh.positions.size(); ++v) {
     const glm::dvec4 w = model * glm::dvec4(glm::dvec3(o.mesh.positions[v]), 1.0);
-    pushVertex(part, glm::vec3(w), o.colorOverride.value_or(o.mesh.colors[v]), glm::vec2(0.0f));
+    const glm::vec2 uv = v < o.mesh.texcoords.size() ? o.mesh.texcoords[v] : glm::vec2(0.0f);
+    pushVertex(part, glm::vec3(w), o.colorOverride.value_or(o.mesh.colors[v]), uv);
   }
   part.indices = o.mesh.indices;
   return part;
@@ -55,6 +56,12 @@ ScenePart particlePart(const SceneObject& o, const Camera& camera) {
 }
 
 }  // namespace
+
+glm::vec4 sampleSurfaceTexture(const SceneObject& object, float s, float t, const double* d, int stride) {
+  const TextureLevel& base = object.texture->level(0);
+  const double lod = d ? lodFromDerivatives(d[0], d[stride], d[2 * stride], d[3 * stride], base.width, base.height) : 0.0;
+  return sampleTexture(*object.texture, object.sampler, s, t, lod);
+}
 
 size_t SceneGeometry::triangleCount() const {
   size_t n = 0;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "oitref/scene.h"
+#include "scene/texture_file.h"
 #include "util/did_you_mean.h"
 
 namespace oitref {
@@ -92,6 +93,52 @@ Camera readCamera(const Reader& r, const json& j) {
   return c;
 }
 
+SamplerState readSampler(const Reader& r, const json& j, const std::string& f) {
+  if (!j.is_object()) r.fail(f, "expected an object");
+  r.onlyKeys(j, f, {"min_filter", "mag_filter", "wrap_s", "wrap_t", "lod_bias"});
+  SamplerState s;
+  auto text = [&](const char* key) {
+    if (!j[key].is_string()) r.fail(f + "." + key, "expected a string");
+    return j[key].get<std::string>();
+  };
+  try {
+    if (j.contains("min_filter")) s.minFilter = parseTextureFilter(text("min_filter"));
+    if (j.contains("mag_filter")) {
+      s.magFilter = parseTextureFilter(text("mag_filter"));
+      if (s.magFilter != TextureFilter::Nearest && s.magFilter != TextureFilter::Linear)
+        r.fail(f + ".mag_filter", "must be nearest or linear (GL 4.6 §8.15)");
+    }
+    if (j.contains("wrap_s")) s.wrapS = parseWrapMode(text("wrap_s"));
+    if (j.contains("wrap_t")) s.wrapT = parseWrapMode(text("wrap_t"));
+  } catch (const std::invalid_argument& e) {
+    r.fail(f, e.what());
+  }
+  if (j.contains("lod_bias")) s.lodBias = r.number(j["lod_bias"], f + ".lod_bias");
+  return s;
+}
+
+// "texture", "texture_format", "sampler" and "alpha_test" of either object type.
+void readTexturing(const Reader& r, const json& j, const std::string& f, const std::filesystem::path& folder,
+                   SceneObject& o) {
+  if (j.contains("texture")) {
+    if (!j["texture"].is_string() || j["texture"].get<std::string>().empty()) r.fail(f + ".texture", "expected a path string");
+    o.textureFile = (folder / j["texture"].get<std::string>()).lexically_normal().string();
+  }
+  if (j.contains("texture_format")) {
+    const json& v = j["texture_format"];
+    const std::string name = v.is_string() ? v.get<std::string>() : "";
+    if (name == "rgba8") o.textureFormat = TextureFormat::Rgba8;
+    else if (name == "srgb8_alpha8") o.textureFormat = TextureFormat::Srgb8Alpha8;
+    else r.fail(f + ".texture_format", "expected \"rgba8\" or \"srgb8_alpha8\"");
+  }
+  if (j.contains("sampler")) o.sampler = readSampler(r, j["sampler"], f + ".sampler");
+  if (j.contains("alpha_test")) {
+    const float t = r.number(j["alpha_test"], f + ".alpha_test");
+    if (!(t >= 0.0f && t <= 1.0f)) r.fail(f + ".alpha_test", "must lie in [0, 1]");
+    o.alphaTest = t;
+  }
+}
+
 SceneObject readObject(const Reader& r, const json& j, const std::string& f, const std::filesystem::path& folder) {
   if (!j.is_object()) r.fail(f, "expected an object");
   if (!j.contains("type") || !j["type"].is_string()) r.fail(f + ".type", "expected \"mesh\" or \"particle\"");
@@ -99,12 +146,14 @@ SceneObject readObject(const Reader& r, const json& j, const std::string& f, con
   SceneObject o;
   if (type == "mesh") {
     o.type = ObjectType::Mesh;
-    r.onlyKeys(j, f, {"type", "file_path", "color_override", "position", "rotation", "scale", "transparent"});
+    r.onlyKeys(j, f, {"type", "file_path", "color_override", "position", "rotation", "scale", "transparent", "texture",
+                      "texture_format", "sampler", "alpha_test"});
     if (!j.contains("file_path") || !j["file_path"].is_string()) r.fail(f + ".file_path", "expected a path string");
     o.filePath = (folder / j["file_path"].get<std::string>()).lexically_normal().string();
   } else if (type == "particle") {
     o.type = ObjectType::Particles;
-    r.onlyKeys(j, f, {"type", "count", "seed", "color_override", "position", "rotation", "scale", "size", "transparent"});
+    r.onlyKeys(j, f, {"type", "count", "seed", "color_override", "position", "rotation", "scale", "size", "transparent",
+                      "texture", "texture_format", "sampler", "alpha_test"});
     if (!j.contains("count")) r.fail(f + ".count", "missing: the number of particles");
     o.particleCount = r.integer(j["count"], f + ".count", 0, 1'000'000);
     if (j.contains("seed")) o.seed = uint32_t(r.integer(j["seed"], f + ".seed", 0, 0xffffffffL));
@@ -113,6 +162,7 @@ SceneObject readObject(const Reader& r, const json& j, const std::string& f, con
   } else {
     r.fail(f + ".type", "unknown object type '" + type + "' (valid: mesh, particle)");
   }
+  readTexturing(r, j, f, folder, o);
   if (j.contains("color_override")) o.colorOverride = r.color(j["color_override"], f + ".color_override");
   if (j.contains("position")) o.position = r.vector<3>(j["position"], f + ".position");
   if (j.contains("rotation")) o.rotationDegrees = r.vector<3>(j["rotation"], f + ".rotation");
@@ -166,18 +216,40 @@ Scene loadScene(const std::string& path) {
   Scene s = parseScene(text.str(), path);
   // Each file is imported once, however many objects use it (a scene of 250 quads is one import).
   std::map<std::string, TriangleMesh> loaded;
+  std::map<std::pair<std::string, TextureFormat>, std::shared_ptr<const Texture2D>> textures;  // likewise
   for (size_t i = 0; i < s.objects.size(); ++i) {
     SceneObject& o = s.objects[i];
-    if (o.type != ObjectType::Mesh) continue;
-    auto it = loaded.find(o.filePath);
-    if (it == loaded.end()) {
+    const std::string field = path + ": objects[" + std::to_string(i) + "]";
+    if (o.type == ObjectType::Mesh) {
+      auto it = loaded.find(o.filePath);
+      if (it == loaded.end()) {
+        try {
+          it = loaded.emplace(o.filePath, loadMesh(o.filePath)).first;
+        } catch (const SceneError& e) {
+          throw SceneError(field + ".file_path: " + e.what());
+        }
+      }
+      o.mesh = it->second;
+    }
+    // The object's "texture", else its model's material's.
+    const bool fromMaterial = o.textureFile.empty() && !o.mesh.texturePath.empty();
+    if (fromMaterial) o.textureFile = o.mesh.texturePath;
+    if (o.textureFile.empty()) {
+      if (o.alphaTest) throw SceneError(field + ".alpha_test: the object has no texture (\"texture\", or a material's)");
+      continue;
+    }
+    if (o.type == ObjectType::Mesh && o.mesh.texcoords.size() != o.mesh.positions.size())
+      throw SceneError(field + ".texture: the model '" + o.filePath + "' has no texture coordinates (in every mesh)");
+    auto t = textures.find({o.textureFile, o.textureFormat});
+    if (t == textures.end()) {
       try {
-        it = loaded.emplace(o.filePath, loadMesh(o.filePath)).first;
+        t = textures.emplace(std::pair{o.textureFile, o.textureFormat}, detail::loadTextureFile(o.textureFile, o.textureFormat)).first;
       } catch (const SceneError& e) {
-        throw SceneError(path + ": objects[" + std::to_string(i) + "].file_path: " + e.what());
+        throw SceneError(field + (fromMaterial ? ".file_path: the model '" + o.filePath + "' names a texture: " : ".texture: ") +
+                         e.what());
       }
     }
-    o.mesh = it->second;
+    o.texture = t->second;
   }
   return s;
 }
