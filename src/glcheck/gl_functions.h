@@ -22,6 +22,7 @@
   X(PFNGLBINDTEXTUREPROC, BindTexture)                                                                  \
   X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                              \
   X(PFNGLTEXSTORAGE2DPROC, TexStorage2D)                                                                \
+  X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                                                              \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                              \
   X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)                                            \
   X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                          \

@@ -17,7 +17,7 @@ enum class Op : uint16_t {
   GetUniformLocation, Uniform1i, Uniform1f, Uniform4fv, GenBuffers, DeleteBuffers, BindBuffer, BufferData,
   BindBufferBase, GenVertexArrays, DeleteVertexArrays, BindVertexArray, DrawArrays, DrawElements,
   VertexAttribPointer, EnableVertexAttribArray, CopyImageSubData, MemoryBarrier, ProvokingVertex,
-  CullFace, FrontFace  // appended: traces recorded before them still replay
+  CullFace, FrontFace, TexSubImage2D  // appended: traces recorded before them still replay
 };
 
 inline constexpr char kMagic[8] = {'O', 'I', 'T', 'R', 'G', 'L', 'T', '1'};

@@ -186,6 +186,18 @@ void APIENTRY ClearBufferfv(GLenum buffer, GLint i, const GLfloat* v) {
   for (int c = 0; c < (buffer == GL_COLOR ? 4 : 1); ++c) rec().put(v[c]);
   rec().driver.ClearBufferfv(buffer, i, v);
 }
+
+// RGBA bytes only (what oitref uploads), rows tightly packed: the texels go into the trace as a blob.
+void APIENTRY TexSubImage2D(GLenum target, GLint level, GLint x, GLint y, GLsizei w, GLsizei h, GLenum format, GLenum type,
+                            const void* pixels) {
+  if (format != GL_RGBA || type != GL_UNSIGNED_BYTE || !pixels)
+    throw std::runtime_error("trace: glTexSubImage2D is recorded for GL_RGBA / GL_UNSIGNED_BYTE texels only");
+  const uint32_t id = rec().blob(pixels, size_t(w) * size_t(h) * 4);
+  rec().op(Op::TexSubImage2D);
+  rec().put(target), rec().put(level), rec().put(x), rec().put(y), rec().put(w), rec().put(h), rec().put(id);
+  rec().driver.TexSubImage2D(target, level, x, y, w, h, format, type, pixels);
+}
+
 void APIENTRY BufferData(GLenum target, GLsizeiptr size, const void* data, GLenum usage) {
   const uint32_t id = data ? rec().blob(data, size_t(size)) : UINT32_MAX;
   rec().op(Op::BufferData);
@@ -235,7 +247,7 @@ GlFunctions recordingFunctions(const GlFunctions& driver, std::ostream& out) {
   OITREF_WRAP(, Enable) OITREF_WRAP(, Disable) OITREF_WRAP(, Enablei) OITREF_WRAP(, Disablei) OITREF_WRAP(, Viewport)
   OITREF_WRAP(, Finish) OITREF_WRAP(, PixelStorei) OITREF_WRAP(, ReadPixels) OITREF_WRAP(, ReadBuffer)
   OITREF_WRAP(, GenTextures) OITREF_WRAP(, DeleteTextures) OITREF_WRAP(, BindTexture) OITREF_WRAP(, ActiveTexture)
-  OITREF_WRAP(, TexStorage2D) OITREF_WRAP(, TexParameteri) OITREF_WRAP(, GenFramebuffers) OITREF_WRAP(, DeleteFramebuffers)
+  OITREF_WRAP(, TexStorage2D) OITREF_WRAP(, TexSubImage2D) OITREF_WRAP(, TexParameteri) OITREF_WRAP(, GenFramebuffers) OITREF_WRAP(, DeleteFramebuffers)
   OITREF_WRAP(, BindFramebuffer) OITREF_WRAP(, FramebufferTexture2D) OITREF_WRAP(, DrawBuffers) OITREF_WRAP(, ClearBufferfv)
   OITREF_WRAP(, ClearBufferfi) OITREF_WRAP(, ColorMaski) OITREF_WRAP(, DepthFunc) OITREF_WRAP(, DepthMask)
   OITREF_WRAP(, CullFace) OITREF_WRAP(, FrontFace)

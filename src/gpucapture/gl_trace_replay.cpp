@@ -171,6 +171,14 @@ size_t replayTrace(const GlFunctions& driver, std::istream& trace, std::ostream&
         gl.TexStorage2D(t, l, f, w, h);
         break;
       }
+      case Op::TexSubImage2D: {
+        const GLenum t = r.get<GLenum>();
+        const GLint l = r.get<GLint>(), x = r.get<GLint>(), y = r.get<GLint>();
+        const GLsizei w = r.get<GLsizei>(), h = r.get<GLsizei>();
+        const uint32_t id = r.get<uint32_t>();
+        gl.TexSubImage2D(t, l, x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, s.blob(id).data());
+        break;
+      }
       case Op::TexParameteri: {
         const GLenum t = r.get<GLenum>(), p = r.get<GLenum>();
         gl.TexParameteri(t, p, r.get<GLint>());

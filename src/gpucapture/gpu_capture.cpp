@@ -2,6 +2,8 @@
 // the driver stored, so oitref can be checked against that GPU anywhere (`oitref blend --cases`).
 //
 //   oitref-gpu-capture blend CASES.csv OUT.csv
+//   oitref-gpu-capture frames TRACE READS
+//   oitref-gpu-capture sampling OUT.csv       (the texture unit's weights: sampling_capture.h)
 //
 // CASES.csv has the 19 input columns of `oitref blend --cases` (header line first); other columns
 // are kept. OUT.csv repeats every line and adds gpu_dst_bits (the texel after the destination was
@@ -29,6 +31,7 @@
 #include "gpucapture/blend_capture.h"
 #include "gpucapture/csv_fields.h"
 #include "gpucapture/gl_trace.h"
+#include "gpucapture/sampling_capture.h"
 
 namespace {
 
@@ -199,6 +202,17 @@ int runFrames(const char* tracePath, const char* outPath) {
   return 0;
 }
 
+int runSampling(const char* outPath) {
+  std::ofstream out(outPath);
+  if (!out) throw std::runtime_error(std::string("cannot write '") + outPath + "'");
+  oitref::glcheck::GlContext context;
+  std::cerr << "GL: " << context.vendor() << " | " << context.renderer() << " | " << context.version() << "\n";
+  oitref::glcheck::captureSampling(context.gl(), out);
+  if (!out.flush()) throw std::runtime_error(std::string("writing '") + outPath + "' failed");
+  std::cerr << "sampling experiments in " << outPath << "\n";
+  return 0;
+}
+
 // NVIDIA's driver keeps compiled shaders in a disk cache, and a shader loaded from it can compute
 // other bits than the same shader compiled afresh (on the H200, driver 580.159.04: cached replays
 // of a scene's trace differed from the first in 3 of 5 scenes). Captures turn the cache off, which
@@ -214,16 +228,21 @@ int main(int argc, char** argv) {
   disableShaderDiskCache();
   const bool blend = argc == 4 && std::strcmp(argv[1], "blend") == 0;
   const bool frames = argc == 4 && std::strcmp(argv[1], "frames") == 0;
-  if (!blend && !frames) {
+  const bool sampling = argc == 3 && std::strcmp(argv[1], "sampling") == 0;
+  if (!blend && !frames && !sampling) {
     std::cerr << "usage: oitref-gpu-capture blend CASES.csv OUT.csv\n"
                  "  runs each case on this machine's GPU (headless EGL) and writes CASES.csv's lines with\n"
                  "  gpu_dst_bits and gpu_result_bits added (compare with `oitref blend --cases OUT.csv`)\n"
                  "       oitref-gpu-capture frames TRACE READS\n"
                  "  replays a GL trace (`oitref glcheck scene --record-trace`) and writes every read's texels\n"
-                 "  (compare with `oitref glcheck scene ... --gpu-reads READS`)\n";
+                 "  (compare with `oitref glcheck scene ... --gpu-reads READS`)\n"
+                 "       oitref-gpu-capture sampling OUT.csv\n"
+                 "  measures the texture unit's LINEAR weights, mipmap fraction, implicit level of detail and\n"
+                 "  NEAREST addressing (docs/nvidia.md, \"Texture sampling\")\n";
     return 2;
   }
   try {
+    if (sampling) return runSampling(argv[2]);
     return blend ? runBlend(argv[2], argv[3]) : runFrames(argv[2], argv[3]);
   } catch (const std::exception& e) {
     std::cerr << "oitref-gpu-capture: " << e.what() << "\n";
