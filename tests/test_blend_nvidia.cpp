@@ -4,7 +4,6 @@
 //  * one recorded case per rule where the rule decides the bits, each checked against the
 //    GPU's recorded texel and against the nearest alternative rule, which must give other bits.
 #include <catch2/catch.hpp>
-#include <zlib.h>
 
 #include <cstring>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include <sstream>
 
 #include "format/unorm_rescale.h"
+#include "gzip_file.h"
 #include "oitref/profile.h"
 #include "oitref/unorm.h"
 #include "tools/blend_case.h"
@@ -21,16 +21,7 @@ using namespace oitref;
 
 namespace {
 
-std::string gunzip(const std::string& path) {
-  gzFile f = gzopen(path.c_str(), "rb");
-  REQUIRE(f != nullptr);
-  std::string text;
-  char buf[1 << 16];
-  int n;
-  while ((n = gzread(f, buf, sizeof buf)) > 0) text.append(buf, size_t(n));
-  gzclose(f);
-  return text;
-}
+using test::gunzip;
 
 // The recorded texels of one CSV line (header + one case) and oitref's under a profile.
 struct Recorded {

@@ -12,6 +12,7 @@
 //            Float targets blend as llvmpipe's generated code does (constant folding, lerps,
 //            minps/maxps; src/blend/blend_llvmpipe_float.h), with the lerp's multiply-add fused
 //            as on CPUs with FMA (fma=on; use "llvmpipe,fma=off" for a CPU without FMA).
+//            Texture filters in 8 bits (RGBA8: 8-bit weights, lerps of 8-bit values).
 //  nvidia    an NVIDIA Hopper GPU (H100/H200, driver 580), measured on 233,266 recorded blend
 //            cases (docs/rules.md, "Profile nvidia"; src/blend/blend_nvidia.h): fp16 and F11/F10
 //            stores round toward zero; UNORM conversion in fixed point with b + 4 fraction bits;
@@ -19,16 +20,18 @@
 //            float targets blend with their own precision p (24, or 11 for fp16 and r11g11b10f,
 //            whose sources and constants are first stored as fp16) in a two-product adder that
 //            rounds each product to odd at p + 4 bits below the larger exponent estimate.
+//            Texture filters with 8-bit weights over texels widened to 16 bits (RGBA8).
 //
 // A profile string may override single fields: "exact,fp16=rtz", "llvmpipe,unorm=exact".
 // Keys: fp16, packed (F11/F10), minifloat (user minifloat formats): rne|rtz;
 // unorm: exact|fp32|nvidia; unorm_blend: float|integer|nvidia; float_blend: ieee|llvmpipe|nvidia;
-// fma: on|off.
+// fma: on|off; texture: exact|llvmpipe|nvidia (the texture filter's weights, docs/nvidia.md).
 #pragma once
 
 #include <string>
 
 #include "oitref/minifloat.h"
+#include "oitref/texture.h"
 #include "oitref/unorm.h"
 
 namespace oitref {
@@ -45,6 +48,7 @@ struct Profile {
   UnormBlend unormBlend = UnormBlend::Float;
   FloatBlend floatBlend = FloatBlend::Ieee;  // how float targets evaluate the blend equation
   bool fma = false;                          // llvmpipe's lerp fused (CPUs with FMA) or not
+  TextureFiltering texture = TextureFiltering::Exact;  // texture filters' arithmetic (oitref/texture.h)
 
   bool operator==(const Profile&) const = default;
   std::string describe() const;  // every field, e.g. for reports and failing tests

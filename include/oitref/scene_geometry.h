@@ -40,8 +40,9 @@ Geometry toClipGeometry(const ScenePart& part, const glm::mat4& viewProjection);
 
 // The object's texture at (s, t), with the level of detail of the texture coordinates'
 // derivatives d over the quad (FragmentInput::derivatives: ∂s/∂x, ∂t/∂x, ∂s/∂y, ∂t/∂y at
-// d[i · stride]; level 0's λ = 0 without them), by the `exact` sampling rule (sampleTexture).
-glm::vec4 sampleSurfaceTexture(const SceneObject& object, float s, float t, const double* d, int stride);
+// d[i · stride]; level 0's λ = 0 without them), filtered by the profile's rule (Profile::texture).
+glm::vec4 sampleSurfaceTexture(const SceneObject& object, float s, float t, const double* d, int stride,
+                               TextureFiltering filtering);
 
 // The object's straight RGBA at a surface point, from its interpolated attributes and the
 // texture coordinates' derivatives. Particles multiply alpha by a soft radial falloff of the quad
@@ -57,7 +58,7 @@ inline int shadeSurfaceReads(const SceneObject& object) {
 }
 inline int shadeSurfaceDerivatives(const SceneObject& object) { return object.texture ? 4 : -1; }
 inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int stride = 1, const double* derivatives = nullptr,
-                              int derivativeStride = 1) {
+                              int derivativeStride = 1, TextureFiltering filtering = TextureFiltering::Exact) {
   glm::vec4 c(a[0], a[stride], a[2 * stride], a[3 * stride]);
   if (object.type == ObjectType::Particles) {
     const float x = 2.0f * a[4 * stride] - 1.0f, y = 2.0f * a[5 * stride] - 1.0f;
@@ -65,7 +66,8 @@ inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int str
     const float falloff = r2 < 1.0f ? (1.0f - r2) * (1.0f - r2) : 0.0f;
     c.a = c.a * falloff;
   }
-  if (object.texture) c = c * sampleSurfaceTexture(object, a[4 * stride], a[5 * stride], derivatives, derivativeStride);
+  if (object.texture)
+    c = c * sampleSurfaceTexture(object, a[4 * stride], a[5 * stride], derivatives, derivativeStride, filtering);
   return c;
 }
 // The alpha test of an object that has one ("alpha_test"): its fragments whose shaded alpha is

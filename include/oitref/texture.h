@@ -14,6 +14,10 @@
 namespace oitref {
 
 enum class TextureFormat : uint8_t { Rgba8, Srgb8Alpha8 };  // GL_RGBA8, GL_SRGB8_ALPHA8
+// How a lookup filters: `Exact` every weight and sum in double (GL 4.6 as written); `Llvmpipe`
+// and `Nvidia` the devices' fixed-point filters of UNORM8 textures (8-bit weights; docs/nvidia.md,
+// "Texture sampling"). A profile's `texture` rule.
+enum class TextureFiltering : uint8_t { Exact, Llvmpipe, Nvidia };
 enum class WrapMode : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 enum class TextureFilter : uint8_t {
   Nearest,
@@ -90,6 +94,8 @@ double lodFromDerivatives(double dsdx, double dtdx, double dsdy, double dtdy, in
 // The filtered colour at (s, t) for the level-of-detail λ_base (before the sampler's bias and
 // clamp, which this applies, §8.14.1): magnified when λ ≤ 0 (§8.14), else minified by the
 // sampler's minification filter, over the texture's levels (level_base 0, q its last).
-glm::vec4 sampleTexture(const Texture2D& texture, const SamplerState& sampler, float s, float t, double lodBase);
+// `rule` chooses the filter's arithmetic (the level of detail is exact under every rule).
+glm::vec4 sampleTexture(const Texture2D& texture, const SamplerState& sampler, float s, float t, double lodBase,
+                        TextureFiltering rule = TextureFiltering::Exact);
 
 }  // namespace oitref

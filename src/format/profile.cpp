@@ -11,6 +11,9 @@ const char* unormName(UnormRounding u) {
   return u == UnormRounding::ExactNearestEven ? "exact" : u == UnormRounding::Fp32Product ? "fp32" : "nvidia";
 }
 const char* unormBlendName(UnormBlend b) { return b == UnormBlend::Float ? "float" : b == UnormBlend::Integer ? "integer" : "nvidia"; }
+const char* textureFilteringName(TextureFiltering t) {
+  return t == TextureFiltering::Exact ? "exact" : t == TextureFiltering::Llvmpipe ? "llvmpipe" : "nvidia";
+}
 const char* floatBlendName(FloatBlend b) { return b == FloatBlend::Ieee ? "ieee" : b == FloatBlend::Llvmpipe ? "llvmpipe" : "nvidia"; }
 
 Rounding parseRounding(const std::string& key, const std::string& v) {
@@ -26,7 +29,8 @@ std::string Profile::describe() const {
   s << name << " (fp16=" << roundingName(fp16) << ", packed=" << roundingName(packedFloat)
     << ", minifloat=" << roundingName(minifloat)
     << ", unorm=" << unormName(unorm) << ", unorm_blend=" << unormBlendName(unormBlend)
-    << ", float_blend=" << floatBlendName(floatBlend) << ", fma=" << (fma ? "on" : "off") << ")";
+    << ", float_blend=" << floatBlendName(floatBlend) << ", fma=" << (fma ? "on" : "off")
+    << ", texture=" << textureFilteringName(texture) << ")";
   return s.str();
 }
 
@@ -42,6 +46,7 @@ Profile llvmpipeProfile() {
   p.unormBlend = UnormBlend::Integer;
   p.floatBlend = FloatBlend::Llvmpipe;
   p.fma = true;
+  p.texture = TextureFiltering::Llvmpipe;
   return p;
 }
 
@@ -55,6 +60,7 @@ Profile nvidiaProfile() {
   p.unormBlend = UnormBlend::Nvidia;
   p.floatBlend = FloatBlend::Nvidia;
   p.fma = false;
+  p.texture = TextureFiltering::Nvidia;
   return p;
 }
 
@@ -91,13 +97,18 @@ Profile parseProfile(const std::string& text) {
       else if (value == "llvmpipe") p.floatBlend = FloatBlend::Llvmpipe;
       else if (value == "nvidia") p.floatBlend = FloatBlend::Nvidia;
       else throw std::invalid_argument("profile key 'float_blend': expected ieee, llvmpipe or nvidia, got '" + value + "'");
+    } else if (key == "texture") {
+      if (value == "exact") p.texture = TextureFiltering::Exact;
+      else if (value == "llvmpipe") p.texture = TextureFiltering::Llvmpipe;
+      else if (value == "nvidia") p.texture = TextureFiltering::Nvidia;
+      else throw std::invalid_argument("profile key 'texture': expected exact, llvmpipe or nvidia, got '" + value + "'");
     } else if (key == "fma") {
       if (value == "on") p.fma = true;
       else if (value == "off") p.fma = false;
       else throw std::invalid_argument("profile key 'fma': expected on or off, got '" + value + "'");
     } else {
       throw std::invalid_argument("unknown profile key '" + key +
-                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma)");
+                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma, texture)");
     }
     overridden = true;
   }

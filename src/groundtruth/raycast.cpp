@@ -173,7 +173,7 @@ glm::vec4 shadeHit(const FrameContext& c, const Hit& h, const PixelRays& rays, i
   double derivatives[4];
   const bool textured = shadeSurfaceDerivatives(object) >= 0;
   if (textured) texcoordDerivatives(part, h.primitive, rays, x, y, derivatives);
-  const glm::vec4 color = shadeSurface(object, attributes, 1, textured ? derivatives : nullptr);
+  const glm::vec4 color = shadeSurface(object, attributes, 1, textured ? derivatives : nullptr, 1, c.profile.texture);
   discarded = surfaceDiscards(object, color);
   return color;
 }

@@ -97,8 +97,8 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
   for (const ScenePart& part : context_.geometry.parts) {
     if (part.transparent && !everything) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
-    FragmentProgram program = programOf([&object](const FragmentInput& in, FragmentOutput& out) {
-      const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride);
+    FragmentProgram program = programOf([&object, filtering = context_.profile.texture](const FragmentInput& in, FragmentOutput& out) {
+      const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride, filtering);
       if (surfaceDiscards(object, c)) return out.discard();
       out.write(0, glm::vec4(glm::vec3(c), 1.0f));
       out.write(1, glm::vec4(glm::vec3(c), 1.0f));
@@ -130,9 +130,10 @@ void PassRunner::withSurfaceTest(FragmentProgram& program, const SceneObject& ob
 }
 
 FragmentProgram PassRunner::alphaTestedPositionProgram(const SceneObject& object, const PipelineState& state,
-                                                      PositionShader shader) {
-  FragmentProgram program = programOf([&object, shader](const FragmentInput& in, FragmentOutput& out) {
-    if (surfaceDiscards(object, shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride)))
+                                                      TextureFiltering filtering, PositionShader shader) {
+  FragmentProgram program = programOf([&object, filtering, shader](const FragmentInput& in, FragmentOutput& out) {
+    const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride, filtering);
+    if (surfaceDiscards(object, c))
       return out.discard();
     FragmentBatchOutput one;
     one.reset(1);

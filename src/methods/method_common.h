@@ -84,8 +84,10 @@ class PassRunner {
   void transparentPass(const std::string& name, Framebuffer& fb, const PipelineState& state, const Shader& shader,
                        bool mayDiscard = false, bool pure = false) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
-      FragmentProgram program = programOf([&object, &shader](const FragmentInput& in, FragmentOutput& out) {
-        const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride);
+      const TextureFiltering filtering = context_.profile.texture;
+      FragmentProgram program = programOf([&object, &shader, filtering](const FragmentInput& in, FragmentOutput& out) {
+        const glm::vec4 c =
+            shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride, filtering);
         if (surfaceDiscards(object, c)) return out.discard();
         shader(in, c, out);
       }, mayDiscard, false, false, pure);
@@ -103,13 +105,14 @@ class PassRunner {
                             const BatchShader& shader, bool mayDiscard = false, bool pure = false,
                             const ShaderDepthTest& discardTest = {}) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
+      const TextureFiltering filtering = context_.profile.texture;
       FragmentProgram program = programOfBatch(
-          [&object, &shader](const FragmentBatch& in, FragmentBatchOutput& out) {
+          [&object, &shader, filtering](const FragmentBatch& in, FragmentBatchOutput& out) {
             if (in.count <= 0) return;  // never: it tells the compiler the rows below are set
             glm::vec4 colors[kShaderBatch];
             for (int i = 0; i < in.count; ++i)
               colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride,
-                                       in.derivatives ? in.derivatives + i : nullptr, in.derivativeStride);
+                                       in.derivatives ? in.derivatives + i : nullptr, in.derivativeStride, filtering);
             if (!object.alphaTest) return shader(in, colors, out);
             // The alpha test's survivors, each as a batch of one (the shader must not see the
             // others: it may store what it sees).
@@ -142,7 +145,7 @@ class PassRunner {
                                const BatchShader& shader) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       if (object.alphaTest)
-        return alphaTestedPositionProgram(object, state, [&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); });
+        return alphaTestedPositionProgram(object, state, context_.profile.texture, [&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); });
       FragmentProgram program = programOfBatch([&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); });
       program.attributesRead = 0;
       return program;
@@ -208,7 +211,7 @@ class PassRunner {
   static void withSurfaceTest(FragmentProgram& program, const SceneObject& object, const PipelineState& state);
   using PositionShader = std::function<void(const FragmentBatch&, FragmentBatchOutput&)>;
   static FragmentProgram alphaTestedPositionProgram(const SceneObject& object, const PipelineState& state,
-                                                    PositionShader shader);
+                                                    TextureFiltering filtering, PositionShader shader);
 
   std::vector<std::unique_ptr<Geometry>> clipGeometry_;  // per part of context_.geometry, on first use
 };

@@ -68,7 +68,8 @@ class Sorted final : public Method {
     // them needs (texture coordinates' derivatives, the alpha test's discard).
     FragmentProgram program{[&](const FragmentInput& in, FragmentOutput& out) {
       const SceneObject& o = context.scene.objects[objectOf[in.primitiveId]];
-      const glm::vec4 c = shadeSurface(o, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride);
+      const glm::vec4 c =
+          shadeSurface(o, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride, context.profile.texture);
       if (surfaceDiscards(o, c)) return out.discard();
       out.write(0, c);
       out.write(1, c);

@@ -57,10 +57,11 @@ ScenePart particlePart(const SceneObject& o, const Camera& camera) {
 
 }  // namespace
 
-glm::vec4 sampleSurfaceTexture(const SceneObject& object, float s, float t, const double* d, int stride) {
+glm::vec4 sampleSurfaceTexture(const SceneObject& object, float s, float t, const double* d, int stride,
+                               TextureFiltering filtering) {
   const TextureLevel& base = object.texture->level(0);
   const double lod = d ? lodFromDerivatives(d[0], d[stride], d[2 * stride], d[3 * stride], base.width, base.height) : 0.0;
-  return sampleTexture(*object.texture, object.sampler, s, t, lod);
+  return sampleTexture(*object.texture, object.sampler, s, t, lod, filtering);
 }
 
 size_t SceneGeometry::triangleCount() const {

@@ -4,30 +4,14 @@
 #include <cmath>
 
 #include "oitref/texture.h"
+#include "texture/level_plan.h"
 
 namespace oitref {
 namespace {
 
-// Texel coordinates are integers; beyond ±2^30 they are clamped before wrapping (GL leaves the
-// precision of such coordinates to the implementation; a GPU's fixed-point texel addressing has
-// far fewer bits), and a NaN coordinate reads as 0.
-double textureCoordinate(double u) { return std::isnan(u) ? 0.0 : std::clamp(u, -0x1p30, 0x1p30); }
-
-int imod(int a, int b) {
-  const int m = a % b;
-  return m < 0 ? m + b : m;
-}
-int mirror(int a) { return a >= 0 ? a : -(1 + a); }
-
-// §8.14.2's wrap table: the wrap of an integer texel coordinate c on a level `size` texels wide.
-int wrap(WrapMode mode, int c, int size) {
-  switch (mode) {
-    case WrapMode::Repeat: return imod(c, size);
-    case WrapMode::ClampToEdge: return std::clamp(c, 0, size - 1);
-    case WrapMode::MirroredRepeat: return (size - 1) - mirror(imod(c, 2 * size) - size);
-  }
-  return 0;
-}
+using detail::LevelPlan;
+using detail::textureCoordinate;
+using detail::wrap;
 
 // §8.14.2: NEAREST reads texel (wrap(⌊u⌋), wrap(⌊v⌋)), u = s·w_t, v = t·h_t of the level.
 glm::dvec4 nearest(const Texture2D& tex, const SamplerState& sp, int level, double s, double t) {
@@ -57,7 +41,8 @@ bool usesMipmaps(TextureFilter f) { return f != TextureFilter::Nearest && f != T
 
 }  // namespace
 
-glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn, float tIn, double lodBase) {
+glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn, float tIn, double lodBase,
+                        TextureFiltering rule) {
   const double s = sIn, t = tIn;
   // §8.17: a mipmap minification filter needs every level down to 1×1 (q + 1 of them), else the
   // texture is incomplete, and an incomplete texture reads as (0, 0, 0, 1) (§11.1.3.5).
@@ -67,27 +52,31 @@ glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn,
   // §8.14.1: λ' = λ_base + bias, then clamped to [min_lod, max_lod] (a NaN λ_base: min_lod).
   const double biased = lodBase + double(sp.lodBias);
   const double lambda = biased > sp.maxLod ? sp.maxLod : biased >= sp.minLod ? biased : double(sp.minLod);
-  glm::dvec4 c;
+  // Which levels, filtered how, and the second level's weight (§8.14, §8.14.3, §8.15).
+  LevelPlan plan;
   if (lambda <= 0.0) {  // §8.14: magnified; §8.15: the mag filter on level_base
-    c = filterLevel(tex, sp, sp.magFilter == TextureFilter::Linear, 0, s, t);
+    plan.linearWithin = sp.magFilter == TextureFilter::Linear;
   } else {
     const TextureFilter f = sp.minFilter;
-    const bool within = f == TextureFilter::Linear || f == TextureFilter::LinearMipmapNearest ||
+    plan.linearWithin = f == TextureFilter::Linear || f == TextureFilter::LinearMipmapNearest ||
                         f == TextureFilter::LinearMipmapLinear;
-    if (!usesMipmaps(f)) {
-      c = filterLevel(tex, sp, within, 0, s, t);
-    } else if (f == TextureFilter::NearestMipmapNearest || f == TextureFilter::LinearMipmapNearest) {
+    if (f == TextureFilter::NearestMipmapNearest || f == TextureFilter::LinearMipmapNearest) {
       // §8.14.3 (level_base 0): d = 0 for λ ≤ ½, ⌈λ + ½⌉ − 1 while λ ≤ q + ½, else q.
-      const int d = lambda <= 0.5 ? 0 : lambda <= q + 0.5 ? int(std::ceil(lambda + 0.5)) - 1 : q;
-      c = filterLevel(tex, sp, within, d, s, t);
-    } else {
+      plan.d1 = plan.d2 = lambda <= 0.5 ? 0 : lambda <= q + 0.5 ? int(std::ceil(lambda + 0.5)) - 1 : q;
+    } else if (f == TextureFilter::NearestMipmapLinear || f == TextureFilter::LinearMipmapLinear) {
       // §8.14.3: d1 = ⌊λ⌋ and d2 = d1 + 1, both q from λ ≥ q on; τ = (1 − frac λ)·τ1 + frac λ·τ2.
-      const int d1 = lambda >= q ? q : int(std::floor(lambda));
-      const int d2 = lambda >= q ? q : d1 + 1;
-      const double f2 = lambda - std::floor(lambda);
-      c = (1.0 - f2) * filterLevel(tex, sp, within, d1, s, t) + f2 * filterLevel(tex, sp, within, d2, s, t);
+      plan.d1 = lambda >= q ? q : int(std::floor(lambda));
+      plan.d2 = lambda >= q ? q : plan.d1 + 1;
+      plan.fraction = lambda - std::floor(lambda);
+      plan.mipLinear = true;
     }
   }
+  // The devices' fixed-point filters read UNORM8 texels; an sRGB texture's decoded colours are
+  // filtered exactly (neither device was measured on one).
+  if (rule != TextureFiltering::Exact && tex.format() == TextureFormat::Rgba8)
+    return detail::filterFixedPoint(tex, sp, rule, plan, s, t);
+  glm::dvec4 c = filterLevel(tex, sp, plan.linearWithin, plan.d1, s, t);
+  if (plan.mipLinear) c = (1.0 - plan.fraction) * c + plan.fraction * filterLevel(tex, sp, plan.linearWithin, plan.d2, s, t);
   return glm::vec4(c);
 }
 
