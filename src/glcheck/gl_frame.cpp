@@ -39,7 +39,9 @@ void main() {
 const char* kFragmentPrelude = R"(
 in vec4 vColour;
 in vec2 vUv;
-uniform bool particles;
+uniform bool particles, textured;
+uniform float alphaTest;  // < 0: none
+uniform sampler2D surfaceTexture;
 vec4 shadeSurface() {
   vec4 c = vColour;
   if (particles) {
@@ -47,6 +49,8 @@ vec4 shadeSurface() {
     float r2 = x * x + y * y;
     c.a = c.a * (r2 < 1.0 ? (1.0 - r2) * (1.0 - r2) : 0.0);
   }
+  if (textured) c = c * texture(surfaceTexture, vUv);
+  if (alphaTest >= 0.0 && !(c.a >= alphaTest)) discard;
   return c;
 }
 float powInt(float x, uint n) {
@@ -115,7 +119,10 @@ GlFrame::GlFrame(const GlContext& context, const FrameContext& frame, const std:
     }
     Part p;
     p.transparent = sp.transparent;
-    p.particles = frame.scene.objects[sp.objectIndex].type == ObjectType::Particles;
+    const SceneObject& object = frame.scene.objects[sp.objectIndex];
+    p.particles = object.type == ObjectType::Particles;
+    if (object.texture) p.texture = uploadTexture(object);
+    if (object.alphaTest) p.alphaTest = *object.alphaTest;
     p.indexCount = GLsizei(g.indices.size());
     gl_.GenVertexArrays(1, &p.vao);
     gl_.BindVertexArray(p.vao);
@@ -154,6 +161,7 @@ GlFrame::~GlFrame() {
   for (auto& [key, p] : programs_) gl_.DeleteProgram(p);
   for (auto& [name, t] : textures_) gl_.DeleteTextures(1, &t.id);
   for (Part& p : parts_) {
+    if (p.texture) gl_.DeleteTextures(1, &p.texture);
     gl_.DeleteBuffers(1, &p.vertices);
     gl_.DeleteBuffers(1, &p.indices);
     gl_.DeleteVertexArrays(1, &p.vao);
@@ -256,11 +264,57 @@ void GlFrame::bindInputs(GLuint program, const std::vector<GlInput>& inputs) {
   }
 }
 
+// The unit of an object's texture: above those of a pass's inputs.
+constexpr GLenum kSurfaceTextureUnit = 15;
+
+GLuint GlFrame::uploadTexture(const SceneObject& object) {
+  const Texture2D& t = *object.texture;
+  const SamplerState& sp = object.sampler;
+  if (sp.lodBias != 0.0f || sp.minLod != -1000.0f || sp.maxLod != 1000.0f)
+    throw std::invalid_argument("glcheck scene: object texture '" + object.textureFile +
+                                "' has a LOD bias or range, which the GL frame does not set");
+  auto filter = [](TextureFilter f) -> GLint {
+    constexpr GLint gl[] = {GL_NEAREST, GL_LINEAR, GL_NEAREST_MIPMAP_NEAREST, GL_LINEAR_MIPMAP_NEAREST,
+                            GL_NEAREST_MIPMAP_LINEAR, GL_LINEAR_MIPMAP_LINEAR};
+    return gl[size_t(f)];
+  };
+  auto wrap = [](WrapMode m) -> GLint {
+    return m == WrapMode::Repeat ? GL_REPEAT : m == WrapMode::ClampToEdge ? GL_CLAMP_TO_EDGE : GL_MIRRORED_REPEAT;
+  };
+  GLuint id = 0;
+  gl_.GenTextures(1, &id);
+  gl_.ActiveTexture(GL_TEXTURE0 + kSurfaceTextureUnit);
+  gl_.BindTexture(GL_TEXTURE_2D, id);
+  gl_.TexStorage2D(GL_TEXTURE_2D, t.levels(), t.format() == TextureFormat::Srgb8Alpha8 ? GL_SRGB8_ALPHA8 : GL_RGBA8,
+                   t.level(0).width, t.level(0).height);
+  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 4);  // rows of RGBA8 texels are whole words
+  for (int i = 0; i < t.levels(); ++i)
+    gl_.TexSubImage2D(GL_TEXTURE_2D, i, 0, 0, t.level(i).width, t.level(i).height, GL_RGBA, GL_UNSIGNED_BYTE,
+                      t.level(i).texels.data());
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter(sp.minFilter));
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter(sp.magFilter));
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap(sp.wrapS));
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap(sp.wrapT));
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, t.levels() - 1);
+  gl_.ActiveTexture(GL_TEXTURE0);
+  context_.check("object texture");
+  return id;
+}
+
 void GlFrame::drawParts(GLuint program, bool transparent, bool everything) {
   const GLint particles = gl_.GetUniformLocation(program, "particles");
+  const GLint textured = gl_.GetUniformLocation(program, "textured"), alphaTest = gl_.GetUniformLocation(program, "alphaTest");
+  gl_.Uniform1i(gl_.GetUniformLocation(program, "surfaceTexture"), GLint(kSurfaceTextureUnit));
   for (const Part& p : parts_) {
     if (p.transparent != transparent && !everything) continue;
     gl_.Uniform1i(particles, p.particles ? 1 : 0);
+    gl_.Uniform1i(textured, p.texture ? 1 : 0);
+    gl_.Uniform1f(alphaTest, p.alphaTest);
+    if (p.texture) {
+      gl_.ActiveTexture(GL_TEXTURE0 + kSurfaceTextureUnit);
+      gl_.BindTexture(GL_TEXTURE_2D, p.texture);
+      gl_.ActiveTexture(GL_TEXTURE0);
+    }
     gl_.BindVertexArray(p.vao);
     gl_.DrawElements(GL_TRIANGLES, p.indexCount, GL_UNSIGNED_INT, nullptr);
   }
@@ -339,6 +393,8 @@ void GlFrame::fullscreenDraw(const std::string& main, const std::vector<std::str
   const GLuint p = program(kFullscreenVertexShader, main, colours.size(), inputs);
   bindInputs(p, inputs);
   gl_.Uniform1i(gl_.GetUniformLocation(p, "particles"), 0);
+  gl_.Uniform1i(gl_.GetUniformLocation(p, "textured"), 0);
+  gl_.Uniform1f(gl_.GetUniformLocation(p, "alphaTest"), -1.0f);
   gl_.BindVertexArray(emptyVao_);
   gl_.DrawArrays(GL_TRIANGLES, 0, 3);
   gl_.BindVertexArray(0);

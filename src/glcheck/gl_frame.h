@@ -94,7 +94,12 @@ class GlFrame {
     GLuint vao = 0, vertices = 0, indices = 0;
     GLsizei indexCount = 0;
     bool transparent = false, particles = false;
+    GLuint texture = 0;        // the object's texture with its levels and sampler state; 0: none
+    float alphaTest = -1.0f;   // the object's alpha_test; < 0: none
   };
+  // The object's texture as a GL texture object (every level as oitref holds it, so both sample
+  // the same texels) with the sampler's filters and wraps.
+  GLuint uploadTexture(const SceneObject& object);
   GLuint program(const std::string& vertex, const std::string& main, size_t colourCount,
                  const std::vector<GlInput>& inputs);
   void bindTargets(const std::vector<std::string>& colours, const std::string& depth);

@@ -107,7 +107,7 @@ struct SceneCheckCommand {
 
 int runSceneCheckCommand(SceneCheckCommand& c) {
   SceneCheckOptions& o = c.options;
-  if (o.scenes.empty()) o.scenes = tools::sceneFiles("scenes"), o.skipTextured = true;
+  if (o.scenes.empty()) o.scenes = tools::sceneFiles("scenes");
   if (o.scenes.empty()) throw std::invalid_argument("no scenes given and none in ./scenes");
   if (!c.size.empty() && c.size != "scene") tools::parseSize(c.size, "--size", o.width, o.height);
   o.memoryLimit = tools::memoryLimitFrom(c.memoryLimit);

@@ -117,14 +117,6 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
   std::vector<SceneCheckRow> rows;
   for (const std::string& path : o.scenes) {
     Scene scene = loadScene(path);
-    const auto textured = std::find_if(scene.objects.begin(), scene.objects.end(), [](const SceneObject& x) { return x.texture != nullptr; });
-    if (textured != scene.objects.end()) {  // the GL frame's shaders have no sampler yet: they would draw flat colours
-      const std::string what = path + ": objects[" + std::to_string(textured - scene.objects.begin()) + "] is textured ('" +
-                               textured->textureFile + "'); glcheck scene does not draw textures yet";
-      if (!o.skipTextured) throw std::invalid_argument(what);
-      out << "skipped " << what << "\n\n";
-      continue;
-    }
     if (o.width > 0) scene.width = o.width, scene.height = o.height;
     const SceneGeometry geometry = buildSceneGeometry(scene);
     const FrameContext frame{scene, geometry, scene.width, scene.height, profile, renderer, o.memoryLimit};

@@ -17,9 +17,6 @@ namespace oitref::glcheck {
 
 struct SceneCheckOptions {
   std::vector<std::string> scenes;   // scene files
-  // Textured scenes are refused (the GL frame has no sampler yet); with this set (the default
-  // list: every built-in scene) they are skipped with a note instead.
-  bool skipTextured = false;
   std::vector<std::string> methods;  // empty: every method with a GL version
   std::map<std::string, std::string> methodOptions;  // given to every method checked (--set)
   int width = 0, height = 0;         // 0: the scene's resolution
