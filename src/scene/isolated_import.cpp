@@ -56,7 +56,7 @@ bool decode(const std::vector<char>& in, TriangleMesh& m) {
   p += vertices * sizeof(glm::vec3);
   std::memcpy(m.colors.data(), p, vertices * sizeof(glm::vec4));
   p += vertices * sizeof(glm::vec4);
-  std::memcpy(m.texcoords.data(), p, texcoords * sizeof(glm::vec2));
+  if (texcoords) std::memcpy(m.texcoords.data(), p, texcoords * sizeof(glm::vec2));  // data() may be null for none
   p += texcoords * sizeof(glm::vec2);
   std::memcpy(m.indices.data(), p, indices * 4);
   p += indices * 4;
