@@ -5,15 +5,19 @@
 //    GPU's recorded texel and against the nearest alternative rule, which must give other bits.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 
+#include "blend/blend_nvidia.h"
 #include "format/unorm_rescale.h"
 #include "gzip_file.h"
 #include "oitref/profile.h"
 #include "oitref/unorm.h"
+#include "support.h"
 #include "tools/blend_case.h"
 #include "tools/blend_comparison.h"
 
@@ -231,4 +235,47 @@ TEST_CASE("nvidia: a half of the blend that leaves the destination out drops the
       "0x1.8p+0,-0x1p+1,0x1.8p+1,0x1.4p+1,0x0p+0,0x0p+0,0x0p+0,0x1p-1,3e00,0000");
   CHECK(resultBits(ownTerm, nvidiaProfile()) == gpuResult(ownTerm));
   CHECK(resultBits(impliedAlpha, nvidiaProfile()) == gpuResult(impliedAlpha));
+}
+
+TEST_CASE("nvidia: the planned kernels give blendNvidia's bits", "[blend][nvidia]") {
+  // The per-draw kernels (planNvidiaBlend: rgba8/rgba16 with their widths compiled in; the float
+  // blend's usual fragments) against the one-fragment rules, on operands chosen to reach every
+  // branch the usual path must hand back or get right: zeros of both signs, denormals of fp32 and
+  // fp16, 1 ± ulp (1 − x tiny or zero), exact negatives of the destination (cancellation to +0),
+  // products that underflow fp32 (FTZ) or overflow fp16, NaN and infinities, and plain numbers.
+  test::BitStream rng(2026);
+  const float edges[] = {0.0f,     -0.0f,     1e-40f,   -1e-40f,   0x1p-126f, 0x1p-24f, 0x1p-25f, 1.0f,     0x1.fffffep-1f,
+                         0x1.000002p0f, 0x1.ffcp-1f, 65504.0f, 70000.0f, 0x1p-70f, 0x1p100f, 0.5f, INFINITY, -INFINITY, NAN};
+  auto operand = [&](float other) {
+    switch (rng.next() % 6) {
+      case 0: return edges[rng.next() % std::size(edges)];
+      case 1: return -other;  // cancels the destination's term under ONE, ONE-like factors
+      case 2: return std::ldexp(rng.uniform(0.5f, 1.0f), int(rng.next() % 80) - 70);
+      default: return rng.uniform(-0.25f, 1.25f);
+    }
+  };
+  const Profile nvidia = nvidiaProfile();
+  size_t compared = 0;
+  for (const char* name : {"rgba8", "r8", "rgba16", "rgba16f", "rg16f", "r16f", "rgba32f", "rg32f", "r32f", "rgb10a2"}) {
+    const Format f = parseFormat(name);
+    for (int i = 0; i < 20000; ++i) {
+      const BlendState st = BlendState::separate(BlendEquation(i % 5), BlendEquation((i / 5) % 5), BlendFactor(rng.next() % 15),
+                                                 BlendFactor(rng.next() % 15), BlendFactor(rng.next() % 15),
+                                                 BlendFactor(rng.next() % 15));
+      glm::vec4 dst, src, constant;
+      for (int k = 0; k < 4; ++k) dst[k] = operand(0.5f);
+      for (int k = 0; k < 4; ++k) src[k] = operand(dst[k]), constant[k] = rng.next() % 4 ? rng.uniform(-0.5f, 1.5f) : operand(1.0f);
+      uint8_t planned[16] = {}, oracle[16] = {};
+      encodeTexel(f, dst, nvidia, planned);
+      std::memcpy(oracle, planned, 16);
+      const unsigned mask = (i % 11 == 0 ? 0x5u : 0xfu) & ((1u << f.channels) - 1);
+      detail::blendNvidia(detail::planNvidiaBlend(f, st, constant, mask), src, planned);
+      detail::blendNvidia(f, st, constant, src, mask, oracle);
+      if (std::memcmp(planned, oracle, size_t(f.bytesPerTexel())) != 0)
+        FAIL(name << " " << st.describe() << " case " << i << ": planned " << texelBitsToString(f, planned) << ", rules "
+                  << texelBitsToString(f, oracle));
+      ++compared;
+    }
+  }
+  CHECK(compared == 10 * 20000);
 }

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "blend/nvidia_blender_sum.h"
+#include "format/fp16_inline.h"
 #include "format/packed_layout.h"
 #include "format/unorm_rescale.h"
 #include "oitref/fp16.h"
@@ -19,10 +21,13 @@ bool isMinMax(BlendEquation e) { return e == BlendEquation::Min || e == BlendEqu
 
 // ---- UNORM targets: exact arithmetic on codes --------------------------------------------------
 
+// kBits: the width of a non-packed target known when compiled (8, 16: its divisions by 2^b − 1
+// become multiplications), or 0 for any target.
+template <int kBits>
 void blendUnorm(const Format& f, const BlendState& st, const glm::vec4& constant, const glm::vec4& source, unsigned mask,
                 uint8_t* texel) {
-  const bool packed = f.id == FormatId::RGB10A2;
-  const int bits = packed ? 10 : f.unormBits(0), bytes = bits / 8;
+  const bool packed = kBits == 0 && f.id == FormatId::RGB10A2;
+  const int bits = kBits ? kBits : packed ? 10 : f.unormBits(0), bytes = bits / 8;
   const int64_t M = (int64_t(1) << bits) - 1;
   int64_t s[4], k[4], d[4] = {0, 0, 0, M};
   uint32_t word = 0;
@@ -96,8 +101,8 @@ struct FloatTarget {
 };
 
 float daz(float x) { return std::fpclassify(x) == FP_SUBNORMAL ? std::copysign(0.0f, x) : x; }
-float toHalfTowardZero(float x) { return decodeHalf(encodeHalf(x, Rounding::TowardZero)); }
-float toHalfNearest(double x) { return decodeHalf(encodeHalf(float(x), Rounding::NearestEven)); }  // x has ≤ 24 bits
+float toHalfTowardZero(float x) { return decodeHalfInline(encodeHalfInline(x, Rounding::TowardZero)); }
+float toHalfNearest(double x) { return decodeHalfInline(encodeHalfInline(float(x), Rounding::NearestEven)); }  // x has ≤ 24 bits
 
 const float kGpuNan = std::bit_cast<float>(0x7fffffffu);  // the NaN the GPU computes: every bit set but the sign
 
@@ -114,18 +119,12 @@ float minNum(float a, float b) {
   return a < b || (a == b && std::signbit(a)) ? a : b;
 }
 
+// frexp's exponent of a finite non-zero x (x = m·2^e, ½ ≤ |m| < 1), from its bits: libm's frexp,
+// ldexp and trunc were most of a blend's time.
 int exponentOf(double x) {
-  int e = 0;
-  std::frexp(x, &e);
-  return e;
-}
-
-// Rounds x·2^−L to an integer with the sticky bit: toward zero, then the last bit set if inexact.
-int64_t roundToOdd(double x, int L) {
-  const double scaled = std::ldexp(x, -L), t = std::trunc(scaled);
-  int64_t q = int64_t(std::fabs(t));
-  if (t != scaled) q |= 1;
-  return x < 0 ? -q : q;
+  const int biased = int((std::bit_cast<uint64_t>(x) >> 52) & 0x7ff);
+  if (biased != 0) return biased - 1022;
+  return exponentOf(x * 0x1p64) - 64;  // a denormal double (the operands are floats: never)
 }
 
 struct Term {
@@ -148,18 +147,7 @@ double twoProductSum(const FloatTarget& t, const Term& a, const Term& b, bool ze
   int e = INT_MIN;
   if (!a.zero()) e = exponentOf(a.value) + exponentOf(a.factor);
   if (!b.zero()) e = std::max(e, exponentOf(b.value) + exponentOf(b.factor));
-  int L = e - (t.p + 4);
-  int64_t sum = (a.zero() ? 0 : roundToOdd(pa, L)) + (b.zero() ? 0 : roundToOdd(pb, L));
-  if (sum == 0) return 0.0;  // exact cancellation: +0, as IEEE's round-to-nearest
-  // The result's last place: p bits below its leading bit, or the format's denormal grid. When it
-  // falls below L + 2 the sticky bit is not used: the sum is truncated.
-  const uint64_t magnitude = uint64_t(sum < 0 ? -sum : sum);
-  const int lastPlace = std::max(L + int(std::bit_width(magnitude)) - t.p, t.minExponent);
-  if (lastPlace < L + 2) {
-    sum /= 2;
-    ++L;
-  }
-  return std::ldexp(double(sum), L);  // exact: |sum| < 2^(p+6)
+  return nvidia_sum::blenderSum<double>(pa, pb, e, t.p, t.minExponent);  // a zero term's product is 0
 }
 
 // The GPU skips the blend, leaving every bit of the destination as it was, when the source cannot
@@ -184,6 +172,31 @@ bool leavesDestination(const Format& f, const BlendState& st, const glm::vec4& s
     if (!sourceZero || !destinationOne) return false;
   }
   return true;
+}
+
+// A factor's value in the blend precision for channel `lane`: s, d and k as converted, da the
+// destination alpha (1 without an alpha channel).
+float factorValue(const FloatTarget& t, BlendFactor factor, int lane, const glm::vec4& s, const glm::vec4& d, float da,
+                  const glm::vec4& k) {
+  const float dLane = lane < 3 ? d[lane] : da;
+  switch (factor) {
+    case BlendFactor::Zero: return 0.0f;
+    case BlendFactor::One: return 1.0f;
+    case BlendFactor::SrcColor: return s[lane];
+    case BlendFactor::OneMinusSrcColor: return oneMinus(t, s[lane]);
+    case BlendFactor::DstColor: return dLane;
+    case BlendFactor::OneMinusDstColor: return oneMinus(t, dLane);
+    case BlendFactor::SrcAlpha: return s[3];
+    case BlendFactor::OneMinusSrcAlpha: return oneMinus(t, s[3]);
+    case BlendFactor::DstAlpha: return da;
+    case BlendFactor::OneMinusDstAlpha: return oneMinus(t, da);
+    case BlendFactor::ConstantColor: return k[lane];
+    case BlendFactor::OneMinusConstantColor: return oneMinus(t, k[lane]);
+    case BlendFactor::ConstantAlpha: return k[3];
+    case BlendFactor::OneMinusConstantAlpha: return oneMinus(t, k[3]);
+    case BlendFactor::SrcAlphaSaturate: return lane == 3 ? 1.0f : minNum(s[3], oneMinus(t, da));
+  }
+  return 0.0f;
 }
 
 bool readsDestination(BlendFactor f) {
@@ -217,28 +230,7 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
     d[c] = t.fp32 ? daz(stored[c]) : stored[c];
   }
   const float da = f.hasAlpha() ? d[3] : 1.0f;
-  auto factor = [&](BlendFactor factor, int lane) -> float {
-    const float dLane = lane < 3 ? d[lane] : da;
-    switch (factor) {
-      case BlendFactor::Zero: return 0.0f;
-      case BlendFactor::One: return 1.0f;
-      case BlendFactor::SrcColor: return s[lane];
-      case BlendFactor::OneMinusSrcColor: return oneMinus(t, s[lane]);
-      case BlendFactor::DstColor: return dLane;
-      case BlendFactor::OneMinusDstColor: return oneMinus(t, dLane);
-      case BlendFactor::SrcAlpha: return s[3];
-      case BlendFactor::OneMinusSrcAlpha: return oneMinus(t, s[3]);
-      case BlendFactor::DstAlpha: return da;
-      case BlendFactor::OneMinusDstAlpha: return oneMinus(t, da);
-      case BlendFactor::ConstantColor: return k[lane];
-      case BlendFactor::OneMinusConstantColor: return oneMinus(t, k[lane]);
-      case BlendFactor::ConstantAlpha: return k[3];
-      case BlendFactor::OneMinusConstantAlpha: return oneMinus(t, k[3]);
-      case BlendFactor::SrcAlphaSaturate:
-        return lane == 3 ? 1.0f : minNum(s[3], oneMinus(t, da));
-    }
-    return 0.0f;
-  };
+  auto factor = [&](BlendFactor factor, int lane) { return factorValue(t, factor, lane, s, d, da, k); };
   if (leavesDestination(f, st, s, k)) return;
   // The source colour (as converted) is zero in the target's colour channels.
   bool sourceColourZero = true;
@@ -305,12 +297,61 @@ void blendFloat(const Format& f, const BlendState& st, const glm::vec4& constant
   mergeTexelChannels(f, encoded, texel, mask);
 }
 
+void oracle(const NvidiaBlendPlan& p, const glm::vec4& source, uint8_t* texel) {
+  blendNvidia(p.format, p.state, p.constant, source, p.mask, texel);
+}
+template <int kBits>
+void unormOf(const NvidiaBlendPlan& p, const glm::vec4& source, uint8_t* texel) {
+  blendUnorm<kBits>(p.format, p.state, p.constant, source, p.mask, texel);
+}
+
 }  // namespace
 
 void blendNvidia(const Format& format, const BlendState& state, const glm::vec4& constant, const glm::vec4& source,
                  unsigned mask, uint8_t* texel) {
-  if (format.isUnorm()) blendUnorm(format, state, constant, source, mask, texel);
+  if (format.isUnorm()) blendUnorm<0>(format, state, constant, source, mask, texel);
   else blendFloat(format, state, constant, source, mask, texel);
+}
+
+NvidiaBlendPlan planNvidiaBlend(const Format& format, const BlendState& state, const glm::vec4& constant, unsigned mask,
+                                bool allowFastPath) {
+  NvidiaBlendPlan p;
+  p.format = format, p.state = state, p.constant = constant, p.mask = mask;
+  p.blend = oracle;
+  if (!allowFastPath) return p;
+  const int c = format.channels;
+  if (format.isUnorm()) {
+    if (format.isPacked()) return p;
+    p.blend = format.unormBits(0) == 8 ? unormOf<8> : format.unormBits(0) == 16 ? unormOf<16> : unormOf<0>;
+    return p;
+  }
+  const ChannelEncoding e = format.encoding();
+  const bool fp32 = e == ChannelEncoding::Float32;
+  if ((!fp32 && e != ChannelEncoding::Half) || (c != 1 && c != 2 && c != 4) || mask != (1u << c) - 1) return p;
+  p.halfRounding = nvidiaProfile().fp16;
+  for (int k = 0; k < 4; ++k) {
+    p.convertedConstant[k] = fp32 ? daz(constant[k]) : toHalfTowardZero(constant[k]);
+    if (!std::isfinite(p.convertedConstant[k])) return p;  // leavesDestination asks for it
+  }
+  p.lanes.source[0] = state.srcRgb, p.lanes.source[1] = state.srcAlpha;
+  p.lanes.destination[0] = state.dstRgb, p.lanes.destination[1] = state.dstAlpha;
+  for (int k = 0; k < c; ++k) {
+    const bool alpha = k == 3;
+    const BlendEquation eq = alpha ? state.equationAlpha : state.equationRgb;
+    const BlendFactor sf = alpha ? state.srcAlpha : state.srcRgb, df = alpha ? state.dstAlpha : state.dstRgb;
+    if (!isMinMax(eq) && sf == BlendFactor::Zero && df == BlendFactor::Zero) return p;  // a zero sum
+    p.lanes.foldSource[k] = -int32_t(sf == BlendFactor::Zero);
+    p.lanes.foldDestination[k] = -int32_t(df == BlendFactor::Zero);
+    p.lanes.minMax[k] = -int32_t(isMinMax(eq));
+    p.lanes.isMin[k] = -int32_t(eq == BlendEquation::Min);
+    p.lanes.signSource[k] = eq == BlendEquation::ReverseSubtract ? -1.0 : 1.0;
+    p.lanes.signDestination[k] = eq == BlendEquation::Subtract ? -1.0 : 1.0;
+    p.lanes.addLike[k] = -int32_t(eq == BlendEquation::Add || eq == BlendEquation::ReverseSubtract);
+    p.lanes.destinationOne[k] = -int32_t(df == BlendFactor::One);
+    p.lanes.oneIfSourceZero[k] = -int32_t(df == BlendFactor::OneMinusSrcColor);
+  }
+  p.blend = nvidiaUsualFloatKernel(fp32, c);
+  return p;
 }
 
 }  // namespace oitref::detail

@@ -37,11 +37,46 @@
 
 #include "oitref/blend_state.h"
 #include "oitref/format.h"
+#include "oitref/minifloat.h"
 
 namespace oitref::detail {
 
 // Blends `source` into the texel; channels outside `mask` keep their bits. `state.enabled`.
+// The rules above, one fragment at a time: the oracle of the planned kernels below.
 void blendNvidia(const Format& format, const BlendState& state, const glm::vec4& constant, const glm::vec4& source,
                  unsigned mask, uint8_t* texel);
+
+// One target's blend in a draw, decided once: rgba8/rgba16 with their widths compiled in, and for
+// fp32/fp16 targets of 1, 2 or 4 channels written whole a kernel for the usual fragment (finite,
+// not denormal, a non-zero source alpha, no zero sum) that hands every other fragment to
+// blendNvidia. Same bits.
+struct NvidiaBlendPlan {
+  Format format;
+  BlendState state;
+  glm::vec4 constant;
+  unsigned mask = 0;
+  glm::vec4 convertedConstant{0.0f};  // as the float blend reads it (DAZ, or fp16 toward zero)
+  // The draw's state per channel lane (lane 3 alpha's; lanes without a channel: zeros, signs 1).
+  struct Lanes {
+    BlendFactor source[2] = {BlendFactor::One, BlendFactor::One};  // colour, alpha
+    BlendFactor destination[2] = {BlendFactor::One, BlendFactor::One};
+    int32_t foldSource[4] = {}, foldDestination[4] = {};  // −1: the factor is ZERO (the term left out)
+    int32_t minMax[4] = {}, isMin[4] = {};                 // −1: MIN or MAX; MIN
+    int32_t addLike[4] = {};                               // −1: ADD or REVERSE_SUBTRACT
+    int32_t destinationOne[4] = {}, oneIfSourceZero[4] = {};  // −1: ONE; ONE_MINUS_SRC_COLOR
+    double signSource[4] = {1, 1, 1, 1}, signDestination[4] = {1, 1, 1, 1};  // −1: the term subtracted
+  } lanes;
+  Rounding halfRounding = Rounding::NearestEven;
+  void (*blend)(const NvidiaBlendPlan&, const glm::vec4& source, uint8_t* texel) = nullptr;
+};
+using NvidiaBlendFn = void (*)(const NvidiaBlendPlan&, const glm::vec4& source, uint8_t* texel);
+NvidiaBlendPlan planNvidiaBlend(const Format& format, const BlendState& state, const glm::vec4& constant, unsigned mask,
+                                bool allowFastPath = true);
+inline void blendNvidia(const NvidiaBlendPlan& plan, const glm::vec4& source, uint8_t* texel) {
+  plan.blend(plan, source, texel);
+}
+// The usual-fragment kernel for an fp32 (else fp16) target of 1, 2 or 4 channels
+// (blend_nvidia_lanes.cpp).
+NvidiaBlendFn nvidiaUsualFloatKernel(bool fp32, int channels);
 
 }  // namespace oitref::detail

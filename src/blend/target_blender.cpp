@@ -181,7 +181,10 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
   const bool nvidia = format.id != FormatId::Minifloat &&
                      (format.isUnorm() ? profile.unormBlend == UnormBlend::Nvidia : profile.floatBlend == FloatBlend::Nvidia);
   if (mask_ == 0) use<maskedOffKernel>();
-  else if (state.enabled && nvidia) use<nvidiaKernel>();
+  else if (state.enabled && nvidia) {
+    nvidiaPlan_ = planNvidiaBlend(format, state, constant, mask_, allowFastPath);
+    use<nvidiaKernel>();
+  }
   else if (state.enabled && integer) {
     unormPlan_ = planUnormInteger(format, state, constant, profile.unorm, mask_);
     unormBlend_ = unormIntegerBlendFor(unormPlan_, allowFastPath);
@@ -289,7 +292,7 @@ void TargetBlender::runThroughBatch(const TargetBlender& b, const glm::vec4* sou
 }
 
 void TargetBlender::nvidiaKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {
-  blendNvidia(b.format_, b.state_, b.rawConstant_, source, b.mask_, texel);
+  blendNvidia(b.nvidiaPlan_, source, texel);
 }
 
 void TargetBlender::integerUnormKernel(const TargetBlender& b, const glm::vec4& source, uint8_t* texel) {

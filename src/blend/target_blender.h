@@ -11,6 +11,7 @@
 
 #include "blend/blend_llvmpipe_float.h"
 #include "blend/blend_math.h"
+#include "blend/blend_nvidia.h"
 #include "blend/blend_unorm_integer.h"
 #include "oitref/blend_state.h"
 #include "oitref/format.h"
@@ -110,6 +111,7 @@ class TargetBlender {
   LlvmpipeFloatPlan llvmpipePlan_;
   LlvmpipeFloatBlendFn llvmpipeBlend_ = nullptr;
   LlvmpipeFloatTexelFns llvmpipeTexels_;
+  NvidiaBlendPlan nvidiaPlan_;
   UnormIntegerPlan unormPlan_;
   UnormIntegerBlendFn unormBlend_ = nullptr;
   UnormIntegerBatchFn unormBatch_ = nullptr;
