@@ -94,8 +94,10 @@ double lodFromDerivatives(double dsdx, double dtdx, double dsdy, double dtdy, in
 // The filtered colour at (s, t) for the level-of-detail λ_base (before the sampler's bias and
 // clamp, which this applies, §8.14.1): magnified when λ ≤ 0 (§8.14), else minified by the
 // sampler's minification filter, over the texture's levels (level_base 0, q its last).
-// `rule` chooses the filter's arithmetic (the level of detail is exact under every rule).
+// `rule` chooses the filter's arithmetic (λ_base is taken as given under every rule).
+// `explicitLod`: λ_base is the shader's own (textureLod), one per fragment, rather than the
+// quad's derivatives' (llvmpipe then filters some samplers in floating point, docs/rules.md).
 glm::vec4 sampleTexture(const Texture2D& texture, const SamplerState& sampler, float s, float t, double lodBase,
-                        TextureFiltering rule = TextureFiltering::Exact);
+                        TextureFiltering rule = TextureFiltering::Exact, bool explicitLod = false);
 
 }  // namespace oitref

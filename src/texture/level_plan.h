@@ -37,8 +37,15 @@ struct LevelPlan {
   double fraction = 0.0;
 };
 
-// The `llvmpipe` and `nvidia` rules' filters over UNORM8 texels (src/texture/fixed_point_filter.cpp).
+// The `llvmpipe` rule's 8-bit filter (UNORM8 textures) and the `nvidia` rule's filter
+// (src/texture/fixed_point_filter.cpp).
 glm::vec4 filterFixedPoint(const Texture2D& tex, const SamplerState& sp, TextureFiltering rule, const LevelPlan& plan,
                            double s, double t);
+// Whether llvmpipe filters with its 8-bit AoS path (Mesa lp_bld_sample_soa.c, use_aos): a texture
+// that fits 8-bit UNORM (not sRGB), REPEAT or CLAMP_TO_EDGE in s and t, and a level of detail per
+// quad (implicit) or minification and magnification filters alike.
+bool llvmpipeUsesFixedPoint(const Texture2D& tex, const SamplerState& sp, bool explicitLod);
+// llvmpipe's floating-point path otherwise (src/texture/llvmpipe_float_filter.cpp).
+glm::vec4 filterLlvmpipeFloat(const Texture2D& tex, const SamplerState& sp, const LevelPlan& plan, float s, float t);
 
 }  // namespace oitref::detail

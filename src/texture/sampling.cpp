@@ -42,7 +42,7 @@ bool usesMipmaps(TextureFilter f) { return f != TextureFilter::Nearest && f != T
 }  // namespace
 
 glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn, float tIn, double lodBase,
-                        TextureFiltering rule) {
+                        TextureFiltering rule, bool explicitLod) {
   const double s = sIn, t = tIn;
   // §8.17: a mipmap minification filter needs every level down to 1×1 (q + 1 of them), else the
   // texture is incomplete, and an incomplete texture reads as (0, 0, 0, 1) (§11.1.3.5).
@@ -51,7 +51,11 @@ glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn,
   if (usesMipmaps(sp.minFilter) && tex.levels() < q + 1) return glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
   // §8.14.1: λ' = λ_base + bias, then clamped to [min_lod, max_lod] (a NaN λ_base: min_lod).
   const double biased = lodBase + double(sp.lodBias);
-  const double lambda = biased > sp.maxLod ? sp.maxLod : biased >= sp.minLod ? biased : double(sp.minLod);
+  double lambda = biased > sp.maxLod ? sp.maxLod : biased >= sp.minLod ? biased : double(sp.minLod);
+  // The H200 holds λ with 8 fractional bits, truncated, before it decides magnification and
+  // levels (magnification up to λ < 1/256; docs/nvidia.md, "Texture sampling").
+  const bool nvidia = rule == TextureFiltering::Nvidia;
+  if (nvidia) lambda = std::floor(lambda * 256.0) / 256.0;
   // Which levels, filtered how, and the second level's weight (§8.14, §8.14.3, §8.15).
   LevelPlan plan;
   if (lambda <= 0.0) {  // §8.14: magnified; §8.15: the mag filter on level_base
@@ -62,7 +66,9 @@ glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn,
                         f == TextureFilter::LinearMipmapLinear;
     if (f == TextureFilter::NearestMipmapNearest || f == TextureFilter::LinearMipmapNearest) {
       // §8.14.3 (level_base 0): d = 0 for λ ≤ ½, ⌈λ + ½⌉ − 1 while λ ≤ q + ½, else q.
-      plan.d1 = plan.d2 = lambda <= 0.5 ? 0 : lambda <= q + 0.5 ? int(std::ceil(lambda + 0.5)) - 1 : q;
+      // The H200 rounds a half up instead: level 1 from λ = ½ on.
+      plan.d1 = plan.d2 = nvidia ? std::min(q, int(std::floor(lambda + 0.5)))
+                          : lambda <= 0.5 ? 0 : lambda <= q + 0.5 ? int(std::ceil(lambda + 0.5)) - 1 : q;
     } else if (f == TextureFilter::NearestMipmapLinear || f == TextureFilter::LinearMipmapLinear) {
       // §8.14.3: d1 = ⌊λ⌋ and d2 = d1 + 1, both q from λ ≥ q on; τ = (1 − frac λ)·τ1 + frac λ·τ2.
       plan.d1 = lambda >= q ? q : int(std::floor(lambda));
@@ -71,10 +77,12 @@ glm::vec4 sampleTexture(const Texture2D& tex, const SamplerState& sp, float sIn,
       plan.mipLinear = true;
     }
   }
-  // The devices' fixed-point filters read UNORM8 texels; an sRGB texture's decoded colours are
-  // filtered exactly (neither device was measured on one).
-  if (rule != TextureFiltering::Exact && tex.format() == TextureFormat::Rgba8)
-    return detail::filterFixedPoint(tex, sp, rule, plan, s, t);
+  // The devices' filters (docs/rules.md, "Texture sampling"): the H200's fixed point for both
+  // formats; llvmpipe's 8-bit path where Mesa takes it, else its floating-point one.
+  if (nvidia) return detail::filterFixedPoint(tex, sp, rule, plan, s, t);
+  if (rule == TextureFiltering::Llvmpipe)
+    return detail::llvmpipeUsesFixedPoint(tex, sp, explicitLod) ? detail::filterFixedPoint(tex, sp, rule, plan, s, t)
+                                                                : detail::filterLlvmpipeFloat(tex, sp, plan, sIn, tIn);
   glm::dvec4 c = filterLevel(tex, sp, plan.linearWithin, plan.d1, s, t);
   if (plan.mipLinear) c = (1.0 - plan.fraction) * c + plan.fraction * filterLevel(tex, sp, plan.linearWithin, plan.d2, s, t);
   return glm::vec4(c);
