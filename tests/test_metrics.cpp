@@ -47,6 +47,18 @@ TEST_CASE("compareImages: equal images, non-finite pixels, mismatched shapes", "
   CHECK(d.nonFinitePixels == 1);
   CHECK(d.mse == Approx(1.0 / 9));  // 3 finite pixels × 3 channels, one square of 1
   CHECK(d.shareWithin() == 0.5);    // one above, one non-finite
+  CHECK(d.nonFiniteDiffering == 1);  // the NaN against a number
+  CHECK(d.pixelsDiffering == 2);     // it and the finite pixel
+  CHECK(d.differs());
+  // The same non-finite value in both images is no difference; another one is.
+  b.store(1, 1, {std::numeric_limits<float>::quiet_NaN(), 0, 0, 1}, p);
+  CHECK(compareImages(a, b, 2.0).nonFiniteDiffering == 0);
+  CHECK(!compareImages(a, b, 2.0).differs());
+  b.store(1, 1, {std::numeric_limits<float>::infinity(), 0, 0, 1}, p);
+  CHECK(compareImages(a, b, 2.0).nonFiniteDiffering == 1);
+  a.store(1, 1, {-std::numeric_limits<float>::infinity(), 0, 0, 1}, p);
+  CHECK(compareImages(a, b, 2.0).nonFiniteDiffering == 1);  // −inf against +inf
+  CHECK(compareImages(a, a, 0.0).nonFiniteDiffering == 0);
   CHECK_THROWS_WITH(compareImages(a, rgba32f(2, 1), 0), Catch::Contains("size"));
   CHECK_THROWS_WITH(compareImages(a, Image(makeFormat(FormatId::R32F), 2, 2), 0), Catch::Contains("channel count"));
 }

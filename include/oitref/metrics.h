@@ -21,12 +21,17 @@ namespace oitref {
 struct ImageDifference {
   size_t pixels = 0;
   size_t nonFinitePixels = 0;     // NaN or inf in either image
+  size_t nonFiniteDiffering = 0;  // of those, the pixels where a channel differs in kind: a NaN or an
+                                  // infinity against a number, or against the other non-finite value
   size_t pixelsAbove = 0;         // e_p > threshold
-  size_t pixelsDiffering = 0;     // e_p > 0
+  size_t pixelsDiffering = 0;     // e_p > 0, or differing non-finite values
   double threshold = 0;
   double mse = 0, rmse = 0, psnr = 0, meanAbs = 0, maxAbs = 0;
   int maxX = -1, maxY = -1;       // where maxAbs is (GL window coordinates), −1 when equal
   double shareWithin() const { return pixels ? double(pixels - pixelsAbove - nonFinitePixels) / double(pixels) : 1.0; }
+  // Whether the images differ beyond the threshold or in a non-finite value (`oitref compare`'s
+  // exit status 1).
+  bool differs() const { return pixelsAbove > 0 || nonFiniteDiffering > 0; }
 };
 
 // Throws std::invalid_argument when sizes or channel counts differ.

@@ -28,6 +28,18 @@ bool finite(const glm::vec4& v, int channels) {
   return true;
 }
 
+// A channel's value as a kind: 0 a number, 1 NaN, 2 +inf, 3 −inf.
+int kind(float v) { return std::isnan(v) ? 1 : std::isinf(v) ? (v > 0 ? 2 : 3) : 0; }
+
+// Whether a pixel that is not finite in one image has another kind of value in the other in some
+// channel (a NaN against a number, +inf against −inf, …).
+bool nonFiniteDiffer(const Image& a, const Image& b, int x, int y, int channels) {
+  const glm::vec4 va = a.fetch(x, y), vb = b.fetch(x, y);
+  for (int c = 0; c < channels; ++c)
+    if (kind(va[c]) != kind(vb[c])) return true;
+  return false;
+}
+
 // e_p, or a negative value when the pixel is not finite in either image.
 // Adds the pixel's squared and absolute channel differences to the sums.
 double pixelError(const Image& a, const Image& b, int x, int y, int channels, double& squares, double& absSum) {
@@ -58,6 +70,7 @@ ImageDifference compareImages(const Image& a, const Image& b, double threshold) 
       const double e = pixelError(a, b, x, y, channels, squares, absSum);
       if (e < 0) {
         ++d.nonFinitePixels;
+        if (nonFiniteDiffer(a, b, x, y, channels)) ++d.nonFiniteDiffering, ++d.pixelsDiffering;
         continue;
       }
       ++finitePixels;
