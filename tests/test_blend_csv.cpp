@@ -96,3 +96,33 @@ TEST_CASE("csv: bad lines are reported with line and column, the rest still run"
   CHECK_THAT(e, Catch::Contains("cases.csv: line 6, column 2 (eq_rgb): unknown blend equation 'mul'"));
   CHECK_THAT(out.str(), Catch::Contains("ff ff ff ff"));
 }
+
+TEST_CASE("csv: a header's columns are read by name, in any order", "[csv]") {
+  const std::string canonical = "rgba16f,add,add,src_alpha,one_minus_src_alpha,one,one_minus_src_alpha,0,0,0,0,1,0.5,0,1,0.2,0.4,0.6,0.5";
+  // The same case with the source columns first and the format last.
+  const std::string reorderedHeader =
+      "src_r,src_g,src_b,src_a,eq_rgb,eq_alpha,src_rgb,dst_rgb,src_alpha,dst_alpha,const_r,const_g,const_b,const_a,dst_r,dst_g,"
+      "dst_b,dst_a,format";
+  const std::string reordered = "0.2,0.4,0.6,0.5,add,add,src_alpha,one_minus_src_alpha,one,one_minus_src_alpha,0,0,0,0,1,0.5,0,1,rgba16f";
+  std::istringstream a(blendCsvHeader(false) + "\n" + canonical + "\n"), b(reorderedHeader + "\n" + reordered + "\n");
+  std::ostringstream outA, outB, err;
+  REQUIRE(runBlendCsv(a, outA, err, exactProfile(), "a.csv") == 0);
+  REQUIRE(runBlendCsv(b, outB, err, exactProfile(), "b.csv") == 0);
+  // The result columns (after the 19 echoed inputs) are the same.
+  auto results = [](const std::string& out) {
+    const std::string line = out.substr(out.find('\n') + 1);
+    size_t at = 0;
+    for (int i = 0; i < 19; ++i) at = line.find(',', at) + 1;
+    return line.substr(at);
+  };
+  CHECK(results(outA.str()) == results(outB.str()));
+  CHECK(err.str().empty());
+  // A bad field is reported at its own column; a header without a column is refused.
+  std::istringstream bad(reorderedHeader + "\n" + "0.2,0.4,0.6,x,add,add,src_alpha,one_minus_src_alpha,one,one_minus_src_alpha,0,0,0,0,1,0.5,0,1,rgba16f\n");
+  std::ostringstream outC, errC;
+  CHECK(runBlendCsv(bad, outC, errC, exactProfile(), "c.csv") == 1);
+  CHECK_THAT(errC.str(), Catch::Contains("c.csv: line 2, column 4 (src_a): 'x' is not a number"));
+  std::istringstream missing("format,eq_rgb,eq_alpha\nrgba8,add,add\n");
+  std::ostringstream outD, errD;
+  CHECK_THROWS_WITH(runBlendCsv(missing, outD, errD, exactProfile(), "d.csv"), Catch::Contains("d.csv: line 1: the header has no column 'src_rgb'"));
+}

@@ -209,6 +209,8 @@ Scene parseScene(const std::string& jsonText, const std::string& path) {
 }
 
 Scene loadScene(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw SceneError(path + ": is a folder, not a scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SceneError(path + ": cannot read the scene file");
   std::ostringstream text;

@@ -1,9 +1,12 @@
 #include "tools/blend_case.h"
 
+#include <algorithm>
 #include <functional>
 #include <istream>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
+#include <vector>
 
 #include "gpucapture/csv_fields.h"
 #include "oitref/blend.h"
@@ -83,21 +86,54 @@ int forEachBlendCsvCase(std::istream& in, std::ostream& err, const std::string& 
                         const std::function<void(int, const std::string&, const BlendCase&)>& visit) {
   std::string line;
   int lineNo = 0, bad = 0;
-  bool header = true;
+  bool first = true;
+  // A header (a first line with a field "format", which no case has) says where each column is:
+  // the columns are read by name, in any order (fileColumn[i]: the file's column of
+  // kBlendCsvColumns[i]).
+  std::vector<size_t> fileColumn;
+  size_t headerFields = 0;
   while (std::getline(in, line)) {
     ++lineNo;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
-    if (header) {
-      header = false;
-      if (line.rfind("format,", 0) == 0) continue;  // the header line
+    if (first) {
+      first = false;
+      const std::vector<std::string> header = splitCsvFields(line);
+      if (std::find(header.begin(), header.end(), "format") != header.end()) {
+        headerFields = header.size();
+        for (const char* name : kBlendCsvColumns) {
+          size_t j = 0;
+          while (j < header.size() && header[j] != name) ++j;
+          if (j == header.size())
+            throw std::invalid_argument(sourceName + ": line " + std::to_string(lineNo) + ": the header has no column '" +
+                                        name + "'");
+          fileColumn.push_back(j);
+        }
+        bool inOrder = true;
+        for (size_t i = 0; i < fileColumn.size(); ++i) inOrder = inOrder && fileColumn[i] == i;
+        if (inOrder) fileColumn.clear();
+        continue;
+      }
+    }
+    std::string inputs = line;
+    if (!fileColumn.empty()) {  // the columns in kBlendCsvColumns' order
+      const std::vector<std::string> f = splitCsvFields(line);
+      if (f.size() != headerFields) {
+        ++bad;
+        err << sourceName << ": line " << lineNo << ": " << f.size() << " fields where the header has " << headerFields << "\n";
+        continue;
+      }
+      inputs.clear();
+      for (size_t i = 0; i < fileColumn.size(); ++i) inputs += (i ? "," : "") + (fileColumn[i] < f.size() ? f[fileColumn[i]] : "");
     }
     try {
-      visit(lineNo, line, parseBlendCsvLine(line));
+      visit(lineNo, line, parseBlendCsvLine(inputs));
     } catch (const BlendCsvError& e) {
       ++bad;
-      err << sourceName << ": line " << lineNo << ", column " << e.column << " ("
-          << kBlendCsvColumns[std::min(e.column, 19) - 1] << "): " << e.what() << "\n";
+      const int column = std::min(e.column, 19);
+      err << sourceName << ": line " << lineNo << ", column "
+          << (fileColumn.empty() ? size_t(e.column) : fileColumn[size_t(column) - 1] + 1) << " ("
+          << kBlendCsvColumns[column - 1] << "): " << e.what() << "\n";
     }
   }
   return bad;

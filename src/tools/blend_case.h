@@ -52,7 +52,10 @@ std::string formatBlendCsvLine(const std::string& inputLine, const BlendCase& c,
 
 // Parses a CSV stream (header line optional, blank lines skipped) and calls `visit(line number,
 // line, case)` for each good line; reports each bad line to `err` as "SOURCE: line N, column C
-// (name): reason". Returns the number of bad lines.
+// (name): reason". Returns the number of bad lines. With a header (a first line with a field
+// "format") the columns are read by name, in any order; a header without one of the 19 input
+// columns throws std::invalid_argument naming it. Without one they are read in kBlendCsvColumns'
+// order.
 int forEachBlendCsvCase(std::istream& in, std::ostream& err, const std::string& sourceName,
                         const std::function<void(int, const std::string&, const BlendCase&)>& visit);
 

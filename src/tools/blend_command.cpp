@@ -1,5 +1,6 @@
 // `oitref blend`: the blend calculator (single case or CSV batch).
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -83,6 +84,11 @@ int runBatch(const BlendOptions& o) {
   std::unique_ptr<std::istream> file;
   std::istream* in = &std::cin;
   if (o.cases != "-") {
+    std::error_code ec;
+    if (std::filesystem::is_directory(o.cases, ec)) {
+      std::cerr << "oitref blend: '" << o.cases << "' is a folder: --cases takes a CSV file ('-' for stdin)\n";
+      return 2;
+    }
     file = std::make_unique<std::ifstream>(o.cases);
     if (!*file) {
       std::cerr << "oitref blend: cannot read '" << o.cases << "'\n";
@@ -119,9 +125,9 @@ void addBlendCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--constant", o->constant, "Blend constant r,g,b,a")->capture_default_str();
   cmd->add_option("--dst", o->dst, "Destination r,g,b,a (stored first, converted to the format)")->capture_default_str();
   cmd->add_option("--src", o->src, "Source r,g,b,a (fp32 fragment output)")->capture_default_str();
-  cmd->add_option("--cases", o->cases,
+  nonEmptyPath(cmd->add_option("--cases", o->cases,
                   "CSV file of cases ('-' for stdin); results as CSV on stdout, or, when the file has gpu_dst_bits and "
-                  "gpu_result_bits columns (oitref-gpu-capture), the share of bit-equal texels and exit status 1 on any difference");
+                  "gpu_result_bits columns (oitref-gpu-capture), the share of bit-equal texels and exit status 1 on any difference"));
   cmd->add_option("--list", o->list, "With recorded GPU texels: how many mismatches to list")->capture_default_str();
   addProfileOption(cmd, o->profile);
   cmd->callback([o, &exitCode] {

@@ -28,6 +28,13 @@ int runReportingErrors(const char* name, Body&& body) {
   }
 }
 
+// A file or folder option that must name something: "" is refused (it would write nothing, or
+// select another mode, silently).
+inline CLI::Option* nonEmptyPath(CLI::Option* option) {
+  return option->check(CLI::Validator([](std::string& value) { return value.empty() ? std::string("must not be empty") : std::string(); },
+                                      "PATH", "NonEmpty"));
+}
+
 // --memory-limit, as render, suite and glcheck scene take it: empty means defaultMemoryLimit().
 inline void addMemoryLimitOption(CLI::App* cmd, std::string& text) {
   cmd->add_option("--memory-limit", text, "Refuse frames that need more, e.g. 8G (default: half the machine's memory)");

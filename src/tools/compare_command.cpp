@@ -94,12 +94,12 @@ void addCompareCommand(CLI::App& app, int& exitCode) {
   CLI::App* cmd = app.add_subcommand("compare", "How far image B is from image A: MSE, RMSE, PSNR, mean and max error, FLIP. "
                                                  "Exit status 0: no pixel above the threshold and no NaN or inf where the "
                                                  "other image has another value; 1: the images differ so; 2: an error");
-  cmd->add_option("a", o->reference, "Reference image (EXR, PNG, PFM, …)")->required();
-  cmd->add_option("b", o->test, "Image to compare with it")->required();
+  nonEmptyPath(cmd->add_option("a", o->reference, "Reference image (EXR, PNG, PFM, …)"))->required();
+  nonEmptyPath(cmd->add_option("b", o->test, "Image to compare with it"))->required();
   cmd->add_option("--threshold", o->threshold, "Per-pixel error counted as 'above' (default 1/255)");
-  cmd->add_option("--heatmap", o->heatmap, "Write an error heatmap (PNG) here");
+  nonEmptyPath(cmd->add_option("--heatmap", o->heatmap, "Write an error heatmap (PNG) here"));
   cmd->add_option("--heatmap-scale", o->heatmapScale, "Error shown as white (default: the max error)");
-  cmd->add_option("--flip-map", o->flipMap, "Write the FLIP error map (PNG) here");
+  nonEmptyPath(cmd->add_option("--flip-map", o->flipMap, "Write the FLIP error map (PNG) here"));
   cmd->add_option("--ppd", o->ppd, "FLIP's pixels per degree (default: a 0.7 m wide 4K monitor at 0.7 m)");
   cmd->add_flag("--json", o->json, "Print one JSON object");
   cmd->callback([o, &exitCode] { exitCode = runReportingErrors("compare", [&] { return runCompare(*o); }); });

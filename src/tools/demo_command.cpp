@@ -49,7 +49,7 @@ int runDemo(DemoCommandOptions& o) {
 void addDemoCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<DemoCommandOptions>();
   CLI::App* cmd = app.add_subcommand("demo", "Render the pipeline's demo scene (OVER into rgba8/rgba16f, WBOIT-style accumulate)");
-  cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
+  nonEmptyPath(cmd->add_option("--out", o->out, "Output folder"))->capture_default_str();
   cmd->add_option("--width", o->demo.width, "Width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--height", o->demo.height, "Height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--triangles", o->demo.triangles, "Translucent triangles")->check(CLI::Range(0, 10000000))->capture_default_str();

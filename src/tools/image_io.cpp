@@ -9,7 +9,6 @@
 #include <unistd.h>
 
 namespace oitref::tools {
-namespace {
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -17,8 +16,17 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
+namespace {
+
+// The temporary a file is written to first, in the destination's folder — which must be one.
 std::filesystem::path tempBeside(const std::filesystem::path& final) {
-  return final.parent_path() / ("." + final.stem().string() + ".tmp" + std::to_string(::getpid()) + final.extension().string());
+  const std::filesystem::path folder = final.parent_path();
+  std::error_code ec;
+  if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+    throw std::runtime_error(final.string() + ": cannot write it: '" + folder.string() + "' " +
+                             (std::filesystem::exists(folder, ec) ? "is not a folder" : "does not exist"));
+  if (std::filesystem::is_directory(final, ec)) throw std::runtime_error(final.string() + ": is a folder, not a file name");
+  return folder / ("." + final.stem().string() + ".tmp" + std::to_string(::getpid()) + final.extension().string());
 }
 
 // The complete temporary becomes the final file in one rename; if that fails, nothing is left.
@@ -73,6 +81,14 @@ void writeTextFile(const std::string& path, const std::string& text) {
   commit(temp, final);
 }
 
+void checkImagePath(const std::string& path) {
+  tempBeside(path);  // the folder
+  const std::string ext = lowerExtension(path);
+  if (ext != ".pfm" && !OIIO::ImageOutput::create(path))
+    throw std::runtime_error(path + ": no image writer for the extension '" + ext +
+                             "' (write .png, .exr or .pfm, or another format OpenImageIO writes: .tif, .hdr, …)");
+}
+
 void writeImage(const std::string& path, const Image& image) {
   const Format& f = image.format();
   const int w = image.width(), h = image.height(), channels = f.channels;
@@ -85,6 +101,7 @@ void writeImage(const std::string& path, const Image& image) {
                                                                               : OIIO::TypeDesc::FLOAT;
   const std::string ext = lowerExtension(path);
   const bool pfm = ext == ".pfm";
+  checkImagePath(path);  // a writer for the extension first: an unknown one is not a question of bits
   if (type != OIIO::TypeDesc::UINT8 && !(type == OIIO::TypeDesc::UINT16 && ext == ".png") && ext != ".exr" && !pfm)
     throw std::runtime_error(path + ": format " + f.name() + " holds values beyond 8 bits; write it as .exr or .pfm");
   if (pfm && (enc == ChannelEncoding::Half || f.isUnorm()))

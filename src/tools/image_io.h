@@ -14,8 +14,15 @@
 
 namespace oitref::tools {
 
-// Throws std::runtime_error naming the file and the reason.
+// Throws std::runtime_error naming the file and the reason: an extension no writer takes (the
+// extension's case does not matter: .PNG is PNG), a format the file type cannot hold, a folder
+// that does not exist or is not one.
 void writeImage(const std::string& path, const Image& image);
+// What writeImage checks before it writes anything: the folder, and a writer for the extension
+// (a command checks its output path this way before its work).
+void checkImagePath(const std::string& path);
+// The path's extension in lower case (".png" for "a.PNG").
+std::string lowerExtension(const std::string& path);
 
 // An image file read back as fp32 values: RGBA32F for 3 or 4 channels (alpha 1 when the file
 // has none), RG32F or R32F for 2 or 1; `channels` is what the file had. Rows are stored bottom

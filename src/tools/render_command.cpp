@@ -27,6 +27,7 @@ int runRender(const RenderOptions& o) {
   const std::map<std::string, std::string> options = methodOptionsFrom(o.sets);
   std::unique_ptr<Method> method = makeMethod(o.method, options);
   const MethodOptions resolved(method->info(), options);
+  if (!o.out.empty()) checkImagePath(o.out);  // before the frame: a bad path refuses at once
   Scene scene = loadScene(o.scene);
   if (!o.size.empty()) parseSize(o.size, "--size", scene.width, scene.height);
   const Profile profile = parseProfile(o.profile);
@@ -46,8 +47,7 @@ int runRender(const RenderOptions& o) {
   std::sort(frameMs.begin(), frameMs.end());
   const double median = frameMs[frameMs.size() / 2];
   if (!o.out.empty()) {
-    const std::string ext = std::filesystem::path(o.out).extension().string();
-    writeImage(o.out, ext == ".png" ? result.final8 : result.finalFloat);
+    writeImage(o.out, lowerExtension(o.out) == ".png" ? result.final8 : result.finalFloat);
   }
   if (!o.dump.empty()) {
     std::filesystem::create_directories(o.dump);
@@ -96,8 +96,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
   cmd->add_option("--size", o->size, "Override the scene's resolution, WxH");
   addProfileOption(cmd, o->profile);
-  cmd->add_option("--out", o->out, "Output image: .exr (float RGBA) or .png (the final RGBA8 bits)");
-  cmd->add_option("--dump", o->dump, "Write every colour attachment into this folder");
+  nonEmptyPath(cmd->add_option("--out", o->out, "Output image: .exr (float RGBA) or .png (the final RGBA8 bits)"));
+  nonEmptyPath(cmd->add_option("--dump", o->dump, "Write every colour attachment into this folder"));
   cmd->add_option("--repeat", o->repeat, "Render N times, report the median frame time")->check(CLI::Range(1, 1000));
   cmd->add_flag("--json", o->json, "Print the summary as one JSON object");
   addMemoryLimitOption(cmd, o->memoryLimit);

@@ -58,7 +58,7 @@ int runStressCommand(const StressCommandOptions& c) {
 void addStressCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<StressCommandOptions>();
   CLI::App* cmd = app.add_subcommand("stress", "The stability atlas: every method and format at the extremes");
-  cmd->add_option("--out", o->out, "Atlas folder")->capture_default_str();
+  nonEmptyPath(cmd->add_option("--out", o->out, "Atlas folder"))->capture_default_str();
   cmd->add_option("--conditions", o->conditions, "Only these conditions (base, colocated, wide, distant, scaled_x100, "
                                                  "scaled_x0.01, hdr, bright)");
   cmd->add_option("--methods", o->methods, "Only these methods");

@@ -68,7 +68,7 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<StudyCommandOptions>();
   CLI::App* cmd = app.add_subcommand("study", "Time every method and variant on scenes, measure their error, write an HTML report");
   cmd->add_option("scenes", o->scenes, "Scene files (default: every scenes/*.json)");
-  cmd->add_option("--out", o->out, "Report folder")->capture_default_str();
+  nonEmptyPath(cmd->add_option("--out", o->out, "Report folder"))->capture_default_str();
   cmd->add_option("--methods", o->methods, "Only these methods (the A-buffer and the ray cast always run)");
   cmd->add_option("--size", o->size, "Override the scenes' resolution, WxH");
   cmd->add_option("--runs", o->runs, "Timed runs per configuration, after one warm-up")->capture_default_str();

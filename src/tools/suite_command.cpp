@@ -26,7 +26,7 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<SuiteOptions>();
   CLI::App* suite = app.add_subcommand("suite", "Render scenes with every method; print time, memory and error vs the A-buffer");
   suite->add_option("scenes", o->scenes, "Scene files (default: every scenes/*.json)");
-  suite->add_option("--out", o->out, "Write every image into this folder");
+  nonEmptyPath(suite->add_option("--out", o->out, "Write every image into this folder"));
   suite->add_option("--size", o->size, "Override the scenes' resolution, WxH");
   suite->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
   addProfileOption(suite, o->profile);

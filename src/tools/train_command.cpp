@@ -46,7 +46,7 @@ int runTrain(const TrainOptions& c) {
 void addTrainCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<TrainOptions>();
   CLI::App* cmd = app.add_subcommand("train-dfaoit", "Train the DFAOIT network and write its weights (deterministic)");
-  cmd->add_option("--out", o->out, "Weights header to write")->capture_default_str();
+  nonEmptyPath(cmd->add_option("--out", o->out, "Weights header to write"))->capture_default_str();
   cmd->add_option("--epochs", o->epochs, "Training epochs")->capture_default_str();
   cmd->add_option("--threads", o->threads, "Worker threads for the A-buffer renders (0: all)")->check(CLI::Range(0, 1024));
   cmd->add_flag("--quiet", o->quiet, "No progress on stderr");
