@@ -154,8 +154,9 @@ TEST_CASE("bad input: unknown methods and options suggest the nearest name", "[b
              Catch::Contains("method 'wboit' has no option 'wieght'") && Catch::Contains("did you mean 'weight'?"));
   CHECK_THAT(errorOf([] { makeMethod("wboit", {{"weight", "mb11"}}); }),
              Catch::Contains("option 'weight': 'mb11' is not one of"));
-  CHECK_THAT(errorOf([] { makeMethod("peel", {{"passes", "many"}}); }), Catch::Contains("'many' is not a number"));
-  CHECK_THAT(errorOf([] { makeMethod("peel", {{"passes", "0"}}); }), Catch::Contains("passes': must be 1..1024"));
+  CHECK_THAT(errorOf([] { makeMethod("peel", {{"passes", "many"}}); }),
+             Catch::Contains("option 'passes': 'many' is not a finite number (an integer in 1..1024)"));
+  CHECK_THAT(errorOf([] { makeMethod("peel", {{"passes", "0"}}); }), Catch::Contains("option 'passes': '0' is outside 1..1024"));
   CHECK_THAT(errorOf([] { makeMethod("wboit", {{"preset", "thesys"}}); }),
              Catch::Contains("option 'preset': 'thesys' is not one of none, thesis"));
   CHECK_THAT(errorOf([] { makeMethod("over", {{"preset", "thesis"}}); }), Catch::Contains("method 'over' has no option 'preset'"));
@@ -209,4 +210,42 @@ TEST_CASE("bad input: memory needs are checked before allocating", "[bad_input]"
                  Catch::Contains("attachments (28 B/pixel)"));
   CHECK_THAT(errorOf([&] { checkMemory(*makeMethod("raycast"), 16384, 16384, g, uint64_t(1) << 30); }),
              Catch::Contains("needs 5.0 GiB"));
+}
+
+// Issue 18, class 4: every number option states its kind and range (OptionNumber), and
+// MethodOptions checks every given value against it, in one place.
+TEST_CASE("bad input: number options refuse NaN, infinities, fractions and values out of range", "[bad_input]") {
+  const struct {
+    const char* method;
+    const char* key;
+    const char* value;
+    const char* message;
+  } cases[] = {
+      {"mboit", "bias", "nan", "option 'bias': 'nan' is not a finite number (a number in 0..1 or auto)"},
+      {"mboit", "bias", "-1", "option 'bias': '-1' is outside 0..1 or auto"},
+      {"mboit", "overestimation", "nan", "option 'overestimation': 'nan' is not a finite number (a number in 0..1)"},
+      {"mboit", "overestimation", "1.5", "option 'overestimation': '1.5' is outside 0..1"},
+      {"mt", "bias", "inf", "option 'bias': 'inf' is not a finite number (a number in 0..1)"},
+      {"mt", "bias", "-1", "option 'bias': '-1' is outside 0..1"},
+      {"peel", "passes", "nan", "option 'passes': 'nan' is not a finite number (an integer in 1..1024)"},
+      {"peel", "passes", "2.5", "option 'passes': '2.5' is not an integer (an integer in 1..1024)"},
+      {"dualpeel", "passes", "-3", "option 'passes': '-3' is outside 1..1024"},
+      {"dualpeel", "passes", "1e9", "option 'passes': '1e9' is outside 1..1024"},
+      {"stochastic", "seed", "-1", "option 'seed': '-1' is outside 0..4294967295"},
+      {"stochastic", "seed", "0.5", "option 'seed': '0.5' is not an integer"},
+      {"abuffer", "max_fragments", "1e30", "option 'max_fragments': '1e30' is outside 1..1099511627776"},
+      {"abuffer", "max_fragments", "", "option 'max_fragments': '' is not a finite number"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.method << " " << c.key << "=" << c.value);
+    CHECK_THAT(errorOf([&] { makeMethod(c.method, {{c.key, c.value}}); }),
+               Catch::Contains(std::string("method '") + c.method + "' " + c.message));
+  }
+  // In range, they are taken: the ends, "auto" where it is allowed, an integer written as a real.
+  CHECK_NOTHROW(makeMethod("mboit", {{"bias", "auto"}}));
+  CHECK_NOTHROW(makeMethod("mboit", {{"bias", "0"}, {"overestimation", "1"}}));
+  CHECK_NOTHROW(makeMethod("peel", {{"passes", "1024"}}));
+  CHECK_NOTHROW(makeMethod("dualpeel", {{"passes", "4.0"}}));
+  CHECK_NOTHROW(makeMethod("stochastic", {{"seed", "4294967295"}}));
+  CHECK_THAT(errorOf([] { makeMethod("mt", {{"bias", "auto"}}); }), Catch::Contains("'auto' is not a finite number"));
 }

@@ -9,6 +9,7 @@
 // memory a GPU would need.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -34,9 +35,23 @@ struct AttachmentDecl {
   std::string formatName() const;
 };
 
+// What a free-form option's value may be: text (none), an integer or a real number, finite and in
+// [min, max]; `orAuto`: the word "auto" too. MethodOptions checks every given value against it.
+struct OptionNumber {
+  enum class Kind : uint8_t { None, Integer, Real };
+  Kind kind = Kind::None;
+  double min = 0, max = 0;
+  bool orAuto = false;
+  static OptionNumber integer(double min, double max) { return {Kind::Integer, min, max, false}; }
+  static OptionNumber real(double min, double max, bool orAuto = false) { return {Kind::Real, min, max, orAuto}; }
+  // "an integer in 1..1024", "a number in 0..1 or auto"; empty for text.
+  std::string describe() const;
+};
+
 struct MethodOption {
   std::string key, defaultValue, meaning;
-  std::vector<std::string> choices;  // empty: free-form (a number, or "auto" where the meaning says so)
+  std::vector<std::string> choices;  // empty: free-form (a number as `number` says)
+  OptionNumber number{};
 };
 
 // A named configuration of a method's options, e.g. "thesis": the formats, weights and constants a

@@ -143,13 +143,11 @@ const MethodInfo& abufferInfo() {
       "abuffer",
       "exact per-pixel sorted A-buffer (ground truth), OVER back to front",
       {{"precision", "float", "arithmetic of the OVER composite", {"float", "double"}},
-       {"max_fragments", "50000000", "fragment budget (32 bytes each); exceeding it is an error", {}}}};
+       {"max_fragments", "50000000", "fragment budget (32 bytes each); exceeding it is an error", {},
+        OptionNumber::integer(1, 0x1p40)}}};
   return info;
 }
 std::unique_ptr<Method> makeAbuffer(const MethodOptions& o) {
-  const double n = o.number("max_fragments");
-  if (!(n >= 1 && n <= 0x1p40))
-    throw std::invalid_argument("method 'abuffer' option 'max_fragments': must be 1..2^40, got " + o.text("max_fragments"));
   return std::make_unique<Abuffer>(o);
 }
 

@@ -158,13 +158,11 @@ const MethodInfo& dualpeelInfo() {
   static const MethodInfo info{
       "dualpeel",
       "dual depth peeling (Bavoil–Myers 2008): nearest and farthest layer per pass, MAX blending",
-      {{"passes", "64", "peeling passes at most (⌈layers/2⌉ + 1 are needed)", {}},
+      {{"passes", "64", "peeling passes at most (⌈layers/2⌉ + 1 are needed)", {}, OptionNumber::integer(1, 1024)},
        {"color", "rgba8", "format of the front and back colour targets (as peel's layers)", {"rgba8", "rgba16f", "rgba32f"}}}};
   return info;
 }
 std::unique_ptr<Method> makeDualpeel(const MethodOptions& o) {
-  if (o.number("passes") < 1 || o.number("passes") > 1024)
-    throw std::invalid_argument("method 'dualpeel' option 'passes': must be 1..1024");
   return std::make_unique<Dualpeel>(o);
 }
 

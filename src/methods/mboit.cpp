@@ -269,8 +269,9 @@ const MethodInfo& mboitInfo() {
       {{"moments", "power4", "moment set: power moments of z, or trigonometric moments of its phase",
         {"power4", "power6", "power8", "trig2", "trig3", "trig4"}},
        {"storage", "float", "moments in fp32 targets blended additively, or normalised and quantised into UNORM16", {"float", "unorm16"}},
-       {"bias", "auto", "moment bias β (auto: the published value for the moment set and storage; the thesis used 0)", {}},
-       {"overestimation", "0.25", "weight of the fragment's own depth in the absorbance", {}},
+       {"bias", "auto", "moment bias β (auto: the published value for the moment set and storage; the thesis used 0)", {},
+        OptionNumber::real(0, 1, true)},
+       {"overestimation", "0.25", "weight of the fragment's own depth in the absorbance", {}, OptionNumber::real(0, 1)},
        {"warp", "linear",
         "depth into [−1, 1]: linear 2d − 1 (window depth) or log of the view depth; unit: the window depth d in [0, 1] with "
         "the bias vector (0.5, 0.5, 0.5, 0.5), as thesis Algorithms 5–6 (power4, float only)",

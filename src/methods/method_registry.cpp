@@ -1,8 +1,9 @@
 // The list of methods, their options, and the pieces of the Method interface they share.
 #include <unistd.h>
 
-#include <cstdio>
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -56,6 +57,36 @@ MethodOption presetOption(const MethodInfo& info) {
 
 }  // namespace
 
+namespace {
+
+std::string shortNumber(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, v == std::floor(v) && std::fabs(v) < 0x1p53 ? "%.0f" : "%.10g", v);
+  return text;
+}
+
+// The one place a number option's value is checked: finite, of its kind, in its range.
+void checkNumber(const std::string& method, const MethodOption& option, const std::string& value) {
+  const OptionNumber& n = option.number;
+  if (n.kind == OptionNumber::Kind::None || (n.orAuto && value == "auto")) return;
+  const std::string what = "method '" + method + "' option '" + option.key + "': '" + value + "' ";
+  const bool integer = n.kind == OptionNumber::Kind::Integer;
+  const std::string range = n.describe();
+  char* end = nullptr;
+  const double d = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(d)) throw std::invalid_argument(what + "is not a finite number (" + range + ")");
+  if (integer && d != std::floor(d)) throw std::invalid_argument(what + "is not an integer (" + range + ")");
+  if (d < n.min || d > n.max) throw std::invalid_argument(what + "is outside " + range.substr(range.find(" in ") + 4));
+}
+
+}  // namespace
+
+std::string OptionNumber::describe() const {
+  if (kind == Kind::None) return "";
+  return std::string(kind == Kind::Integer ? "an integer" : "a number") + " in " + shortNumber(min) + ".." + shortNumber(max) +
+         (orAuto ? " or auto" : "");
+}
+
 MethodOptions::MethodOptions(const MethodInfo& info, const std::map<std::string, std::string>& given)
     : method_(info.name) {
   std::vector<MethodOption> options = info.options;
@@ -77,6 +108,7 @@ MethodOptions::MethodOptions(const MethodInfo& info, const std::map<std::string,
       for (const std::string& c : option->choices) valid += (valid.empty() ? "" : ", ") + c;
       throw std::invalid_argument("method '" + info.name + "' option '" + key + "': '" + value + "' is not one of " + valid);
     }
+    checkNumber(info.name, *option, value);
   }
   // The preset's values first, then every option given (the preset's name among them). A preset
   // names only declared options (at() throws otherwise; the methods test runs every preset).

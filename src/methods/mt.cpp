@@ -123,7 +123,7 @@ const MethodInfo& mtInfo() {
   static const MethodInfo info{
       "mt",
       "moment transparency (Sharpe 2018): 4 power moments of the log depth in [0, 1], MSM bound",
-      {{"bias", "3e-7", "moment bias β towards (0, 0.375, 0, 0.375)", {}},
+      {{"bias", "3e-7", "moment bias β towards (0, 0.375, 0, 0.375)", {}, OptionNumber::real(0, 1)},
        {"accum", "rgba32f", "accumulation format", {"rgba16f", "rgba32f"}}}};
   return info;
 }

@@ -107,15 +107,13 @@ class Peel final : public Method {
 const MethodInfo& peelInfo() {
   static const MethodInfo info{"peel",
                                "front-to-back depth peeling (Everitt; thesis Algorithm 1)",
-                               {{"passes", "32", "peeling iterations (the thesis: 32)", {}},
+                               {{"passes", "32", "peeling iterations (the thesis: 32)", {}, OptionNumber::integer(1, 1024)},
                                 {"layer", "rgba8", "format of the peeled layer and the accumulator (thesis: RGBA8)",
                                  {"rgba8", "rgba16f", "rgba32f"}}},
                                {{"thesis", "Algorithm 1 (the default): 32 iterations, RGBA8 C2 and C3", {{"passes", "32"}, {"layer", "rgba8"}}}}};
   return info;
 }
 std::unique_ptr<Method> makePeel(const MethodOptions& o) {
-  if (o.number("passes") < 1 || o.number("passes") > 1024)
-    throw std::invalid_argument("method 'peel' option 'passes': must be 1..1024");
   return std::make_unique<Peel>(o);
 }
 

@@ -126,15 +126,13 @@ const MethodInfo& stochasticInfo() {
                                "listings 4.3–4.9 as printed (a random test per fragment, S unblended passes, bg·T + c·(1 − T))",
         {"enderton", "vallius"}},
        {"samples", "8", "samples per pixel S (each fragment covers round(α·S) of them); vallius: S passes", {"8", "16", "32"}},
-       {"seed", "1", "seed of the coverage masks (vallius: of the per-fragment random values)", {}},
+       {"seed", "1", "seed of the coverage masks (vallius: of the per-fragment random values)", {},
+        OptionNumber::integer(0, 4294967295.0)},
        {"accum", "rgba16f", "accumulation format (vallius: the samples' target; listing 4.3's RGBA16F); the revealage uses the same encoding in one channel",
         {"rgba16f", "rgba32f"}}}};
   return info;
 }
 std::unique_ptr<Method> makeStochastic(const MethodOptions& o) {
-  const double seed = o.number("seed");
-  if (seed < 0 || seed > 4294967295.0 || seed != std::floor(seed))
-    throw std::invalid_argument("method 'stochastic' option 'seed': must be an integer in 0..4294967295");
   if (o.text("variant") == "vallius") return makeStochasticVallius(o);
   return std::make_unique<Stochastic>(o);
 }

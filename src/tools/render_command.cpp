@@ -116,6 +116,7 @@ void addMethodsCommand(CLI::App& app, int& exitCode) {
       for (const MethodOption& opt : m.options) {
         std::string choices;
         for (const std::string& c : opt.choices) choices += (choices.empty() ? "" : "|") + c;
+        if (choices.empty()) choices = opt.number.describe();
         std::printf("    %s=%s  %s%s\n", opt.key.c_str(), opt.defaultValue.c_str(), opt.meaning.c_str(),
                     choices.empty() ? "" : ("  [" + choices + "]").c_str());
       }
