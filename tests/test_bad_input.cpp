@@ -249,3 +249,28 @@ TEST_CASE("bad input: number options refuse NaN, infinities, fractions and value
   CHECK_NOTHROW(makeMethod("stochastic", {{"seed", "4294967295"}}));
   CHECK_THAT(errorOf([] { makeMethod("mt", {{"bias", "auto"}}); }), Catch::Contains("'auto' is not a finite number"));
 }
+
+// Issue 18, class 1: a scene number that does not fit the fp32 it becomes is refused, naming the
+// field — every numeric field goes through Reader::number.
+TEST_CASE("bad input: scene numbers beyond fp32 are refused, naming the field", "[bad_input]") {
+  const std::string quad = R"("type": "mesh", "file_path": "meshes/quad.obj")";
+  const struct {
+    std::string json, message;
+  } cases[] = {
+      {R"({"objects": [{)" + quad + R"(, "scale": 1e39}]})", "s.json: objects[0].scale: 1e+39 does not fit in fp32 (largest 3.40282347e38)"},
+      {R"({"objects": [{)" + quad + R"(, "position": [0, -1e39, 0]}]})", "s.json: objects[0].position[1]: -1e+39 does not fit in fp32"},
+      {R"({"objects": [{)" + quad + R"(, "rotation": [1e39, 0, 0]}]})", "s.json: objects[0].rotation[0]: 1e+39 does not fit in fp32"},
+      {R"({"objects": [{)" + quad + R"(, "color_override": [1e39, 0, 0, 1]}]})", "objects[0].color_override[0]: 1e+39 does not fit in fp32"},
+      {R"({"objects": [{)" + quad + R"(, "scale": 1e-50}]})", "s.json: objects[0].scale: 1e-50 does not fit in fp32 (it would be 0)"},
+      {R"({"objects": [{"type": "particle", "count": 2, "size": 1e39}]})", "s.json: objects[0].size: 1e+39 does not fit in fp32"},
+      {R"({"objects": [], "back": [0, 1e39, 0]})", "s.json: back[1]: 1e+39 does not fit in fp32"},
+      {R"({"objects": [], "camera": {"position": [1e39, 0, 0]}})", "s.json: camera.position[0]: 1e+39 does not fit in fp32"},
+      {R"({"objects": [], "camera": {"far": 1e39}})", "s.json: camera.far: 1e+39 does not fit in fp32"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.json);
+    CHECK_THAT(sceneError(c.json), Catch::Contains(c.message));
+  }
+  // The largest fp32 and denormals still fit.
+  CHECK_THAT(sceneError(R"({"objects": [], "back": [3.4e38, 1e-40, 0]})"), Catch::Equals("no error"));
+}

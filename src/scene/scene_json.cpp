@@ -37,7 +37,12 @@ class Reader {
     if (!v.is_number()) fail(field, "expected a number, got " + std::string(v.type_name()));
     const double d = v.get<double>();
     if (!std::isfinite(d)) fail(field, "expected a finite number");
-    return float(d);
+    // Every scene number becomes an fp32: one beyond its range (it would be infinite) or so small
+    // that it would be 0 is refused, not changed.
+    const float f = float(d);
+    if (!std::isfinite(f) || (f == 0.0f && d != 0.0))
+      fail(field, v.dump() + " does not fit in fp32 (" + (std::isfinite(f) ? "it would be 0" : "largest 3.40282347e38") + ")");
+    return f;
   }
 
   template <int N>
