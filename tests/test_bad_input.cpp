@@ -274,3 +274,26 @@ TEST_CASE("bad input: scene numbers beyond fp32 are refused, naming the field", 
   // The largest fp32 and denormals still fit.
   CHECK_THAT(sceneError(R"({"objects": [], "back": [3.4e38, 1e-40, 0]})"), Catch::Equals("no error"));
 }
+
+// Issue 18, class 3: a mesh's vertex colours obey color_override's rule (scene/colour_rule.h),
+// refused with the file, the vertex and the channel.
+TEST_CASE("bad input: mesh vertex colours: NaN, negative, alpha above 1", "[bad_input]") {
+  auto ply = [](const std::string& secondVertexColour) {
+    return "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+           "property float red\nproperty float green\nproperty float blue\nproperty float alpha\n"
+           "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 1\n1 0 0 " +
+           secondVertexColour + "\n0 1 0 0 0 1 1\n3 0 1 2\n";
+  };
+  CHECK_THAT(meshError("colour_nan.ply", ply("nan 0.5 0 1")),
+             Catch::Contains("colour_nan.ply': vertex 1 of mesh 0, colour channel r (nan): colour components must be finite"));
+  CHECK_THAT(meshError("colour_negative.ply", ply("0.5 -0.5 0 1")),
+             Catch::Contains("colour_negative.ply': vertex 1 of mesh 0, colour channel g (-0.500000): colour components must not be negative"));
+  CHECK_THAT(meshError("colour_alpha.ply", ply("0.5 0.5 0 2")),
+             Catch::Contains("colour_alpha.ply': vertex 1 of mesh 0, colour channel a (2.000000): alpha must lie in [0, 1]"));
+  CHECK_THAT(meshError("colour_negative.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 -2 0\nv 0 1 0 0 0 1\nf 1 2 3\n"),
+             Catch::Contains("colour_negative.obj': vertex 1 of mesh 0, colour channel g (-2.000000): colour components must not be negative"));
+  // An HDR colour (RGB above 1) is a colour: taken, as in color_override.
+  CHECK_THAT(meshError("colour_hdr.ply", ply("4 0.5 0 1")), Catch::Equals("no error"));
+  CHECK_THAT(sceneError(R"({"objects": [{"type": "mesh", "file_path": "q.obj", "color_override": [4, 0, 0, 1]}]})"),
+             !Catch::Contains("colour"));
+}

@@ -16,6 +16,7 @@
 #include <fstream>
 
 #include "oitref/scene.h"
+#include "scene/colour_rule.h"
 #include "scene/isolated_import.h"
 
 namespace oitref {
@@ -87,7 +88,12 @@ TriangleMesh importWithAssimp(const std::string& path) {
       out.positions.emplace_back(p.x, p.y, p.z);
       if (mesh->HasVertexColors(0)) {
         const aiColor4D& c = mesh->mColors[0][v];
-        out.colors.emplace_back(c.r, c.g, c.b, c.a);
+        const glm::vec4 colour(c.r, c.g, c.b, c.a);
+        int channel = 0;  // the same rule as color_override's
+        if (const char* problem = detail::colourProblem(colour, channel))
+          throw SceneError("mesh '" + path + "': vertex " + std::to_string(v) + " of mesh " + std::to_string(m) + ", colour channel " +
+                           "rgba"[channel] + " (" + std::to_string(colour[channel]) + "): " + problem);
+        out.colors.push_back(colour);
       } else {
         out.colors.emplace_back(1.0f);
       }

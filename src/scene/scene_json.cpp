@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "oitref/scene.h"
+#include "scene/colour_rule.h"
 #include "scene/texture_file.h"
 #include "util/did_you_mean.h"
 
@@ -63,9 +64,8 @@ class Reader {
 
   glm::vec4 color(const json& v, const std::string& field) const {
     const glm::vec4 c = vector<4>(v, field);
-    for (int i = 0; i < 4; ++i)
-      if (c[i] < 0.0f) fail(field + "[" + std::to_string(i) + "]", "colour components must not be negative");
-    if (c.a > 1.0f) fail(field + "[3]", "alpha must lie in [0, 1]");
+    int channel = 0;
+    if (const char* problem = detail::colourProblem(c, channel)) fail(field + "[" + std::to_string(channel) + "]", problem);
     return c;
   }
 
