@@ -297,3 +297,26 @@ TEST_CASE("bad input: mesh vertex colours: NaN, negative, alpha above 1", "[bad_
   CHECK_THAT(sceneError(R"({"objects": [{"type": "mesh", "file_path": "q.obj", "color_override": [4, 0, 0, 1]}]})"),
              !Catch::Contains("colour"));
 }
+
+// Issue 18, class 2: a camera whose fp32 projection overflows, or cannot be undone into finite
+// rays, is refused when the scene is read — by the check both ground truths share
+// (Camera::projectionProblem, which Camera::projection also throws), so the rasterizer no longer
+// draws a blank frame where the ray cast refuses.
+TEST_CASE("bad input: cameras whose fp32 projection shows nothing are refused by one check", "[bad_input]") {
+  auto scene = [](const std::string& camera) {
+    return R"({"objects": [], "camera": {"position": [0, 0, 3], "target": [0, 0, 0], )" + camera + "}}";
+  };
+  CHECK_THAT(sceneError(scene(R"("near": 0.1, "far": 3e38)")),
+             Catch::Contains("s.json: camera: the perspective projection of fov_y 60, near 0.1, far 3e+38 is not finite in fp32 "
+                             "(2·far·near overflows)"));
+  CHECK_THAT(sceneError(scene(R"("fov_y": 1e-40)")), Catch::Contains("is not finite in fp32 (1/tan(fov_y/2) overflows)"));
+  CHECK_THAT(sceneError(scene(R"("near": 1e-30, "far": 1e30)")),
+             Catch::Contains("s.json: camera: near 1e-30 and far 1e+30 are too far apart for fp32: the projection puts every "
+                             "depth on the far plane"));
+  // Extreme but workable cameras are taken, and the projection throws what the reader says.
+  CHECK_THAT(sceneError(scene(R"("near": 0.1, "far": 1e37)")), Catch::Equals("no error"));
+  CHECK_THAT(sceneError(scene(R"("near": 1e-6, "far": 1e6)")), Catch::Equals("no error"));
+  Camera c;
+  c.fovYDegrees = 1e-40f;
+  CHECK_THAT(errorOf([&] { (void)c.projection(1.0f); }), Catch::Contains("camera: the perspective projection of fov_y"));
+}

@@ -50,7 +50,13 @@ struct Camera {
   float farPlane = 100.0f;
 
   glm::mat4 view() const;
+  // Throws std::invalid_argument with projectionProblem's reason when there is one.
   glm::mat4 projection(float aspect) const;
+  // Why the fp32 projection at this aspect cannot show anything, or "": an entry that is not finite
+  // (a tiny fov_y, 2·far·near beyond fp32), or one that cannot be undone into finite rays through
+  // the view's corners (a near and far so far apart that every depth is the far plane's). The one
+  // check of both ground truths: the rasterizer and the ray cast refuse the same cameras.
+  std::string projectionProblem(float aspect) const;
 };
 
 // A mesh as loaded, in object space: triangles, per-vertex straight RGBA (white when the file

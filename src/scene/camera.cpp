@@ -1,7 +1,12 @@
 // Camera and object transforms (conventions in oitref/scene.h).
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
 
 #include "oitref/scene.h"
 
@@ -11,16 +16,57 @@ glm::mat4 Camera::view() const { return glm::lookAt(position, target, up); }
 
 // glm::perspective (right-handed, clip z in [−w, w]), with tan evaluated in double so the
 // matrix does not depend on which fp32 tanf a C library ships.
-glm::mat4 Camera::projection(float aspect) const {
-  const double halfFov = double(fovYDegrees) * 3.14159265358979323846 / 360.0;
+namespace {
+std::string shortNumber(float v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", double(v));
+  return text;
+}
+
+glm::mat4 perspective(const Camera& c, float aspect) {
+  const double halfFov = double(c.fovYDegrees) * 3.14159265358979323846 / 360.0;
   const float f = float(1.0 / std::tan(halfFov));
   glm::mat4 p(0.0f);
   p[0][0] = f / aspect;
   p[1][1] = f;
-  p[2][2] = -(farPlane + nearPlane) / (farPlane - nearPlane);
+  p[2][2] = -(c.farPlane + c.nearPlane) / (c.farPlane - c.nearPlane);
   p[2][3] = -1.0f;
-  p[3][2] = -(2.0f * farPlane * nearPlane) / (farPlane - nearPlane);
+  p[3][2] = -(2.0f * c.farPlane * c.nearPlane) / (c.farPlane - c.nearPlane);
   return p;
+}
+}  // namespace
+
+glm::mat4 Camera::projection(float aspect) const {
+  if (const std::string problem = projectionProblem(aspect); !problem.empty()) throw std::invalid_argument("camera: " + problem);
+  return perspective(*this, aspect);
+}
+
+std::string Camera::projectionProblem(float aspect) const {
+  const glm::mat4 p = perspective(*this, aspect);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (!std::isfinite(p[i][j]))
+        return "the perspective projection of fov_y " + shortNumber(fovYDegrees) + ", near " + shortNumber(nearPlane) +
+               ", far " + shortNumber(farPlane) + " is not finite in fp32" +
+               (std::isfinite(p[1][1]) ? " (2·far·near overflows)" : " (1/tan(fov_y/2) overflows)");
+  // The ray cast's rays through the view's corners (raycast.cpp, PixelRays): the near plane's
+  // point to the far plane's, or to the middle depth's where the far one is at infinity.
+  const glm::dmat4 inverse = glm::inverse(glm::dmat4(p) * glm::dmat4(view()));
+  auto unproject = [&](double x, double y, double z) {
+    const glm::dvec4 e = inverse * glm::dvec4(x, y, z, 1.0);
+    return glm::dvec3(e) / e.w;
+  };
+  auto finite = [](const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  for (const double x : {-1.0, 1.0})
+    for (const double y : {-1.0, 1.0}) {
+      const glm::dvec3 nearPoint = unproject(x, y, -1.0);
+      glm::dvec3 direction = unproject(x, y, 1.0) - nearPoint;
+      if (!finite(direction)) direction = unproject(x, y, 0.0) - nearPoint;
+      if (!finite(direction))
+        return "near " + shortNumber(nearPlane) + " and far " + shortNumber(farPlane) +
+               " are too far apart for fp32: the projection puts every depth on the far plane";
+    }
+  return "";
 }
 
 // Composed in double and rounded once, so the sub-ulp differences between C libraries' fp32
