@@ -89,13 +89,14 @@ Camera readCamera(const Reader& r, const json& j) {
   if (!(c.fovYDegrees > 0.0f && c.fovYDegrees < 180.0f)) r.fail(f + ".fov_y", "must lie in (0, 180) degrees");
   if (!(c.nearPlane > 0.0f)) r.fail(f + ".near", "must be positive");
   if (!(c.farPlane > c.nearPlane)) r.fail(f + ".far", "must be greater than near");
-  if (const std::string problem = c.projectionProblem(1.0f); !problem.empty()) r.fail(f, problem);
   const glm::vec3 forward = c.target - c.position;
   if (glm::dot(forward, forward) == 0.0f) r.fail(f + ".target", "must differ from the position");
   if (glm::dot(c.up, c.up) == 0.0f) r.fail(f + ".up", "must not be zero");
   const glm::vec3 side = glm::cross(forward, c.up);
   if (glm::dot(side, side) <= 1e-12f * glm::dot(forward, forward) * glm::dot(c.up, c.up))
     r.fail(f + ".up", "must not be parallel to the view direction");
+  // Last: the projection's check undoes the view too, which the rules above make invertible.
+  if (const std::string problem = c.projectionProblem(1.0f); !problem.empty()) r.fail(f, problem);
   return c;
 }
 
