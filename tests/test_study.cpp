@@ -8,6 +8,7 @@
 
 #include "oitref/metrics.h"
 #include "temp_files.h"
+#include "tools/image_io.h"
 #include "tools/study.h"
 #include "tools/study_report.h"
 
@@ -87,6 +88,16 @@ TEST_CASE("Study: every row's numbers are those of its own render against the A-
   CHECK(mb7->bytesPerPixel == method->bytesPerPixel());
   CHECK(mb7->fragmentsShaded == frame.fragmentsShaded());
   CHECK(mb7->fragmentsPerSecond == Approx(double(frame.fragmentsShaded()) / (mb7->ms / 1000)));
+  // Its files (written by the renderer's workers after the scene's timed frames): the image's
+  // 8-bit texels, and the heatmap of this frame against the truth.
+  const Image written = readImage((out / mb7->image).string()).image;
+  REQUIRE(written.width() == 64);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) REQUIRE(written.fetch(x, y) == frame.final8.fetch(x, y));
+  const Image heatmap = errorHeatmap(truth.finalFloat, frame.finalFloat, o.heatmapScale);
+  const Image writtenHeatmap = readImage((out / mb7->heatmap).string()).image;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) REQUIRE(writtenHeatmap.fetch(x, y) == heatmap.fetch(x, y));
 
   // The files parse back with the same numbers.
   const nlohmann::json json = nlohmann::json::parse(studyJson(result));
