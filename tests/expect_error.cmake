@@ -1,13 +1,17 @@
-# Runs oitref with ARGS ("|"-separated) and checks that it fails (non-zero exit status), that its
-# error output contains EXPECT literally, and — when NO_FILE is given — that no such file was
-# left behind (nothing half-written).
+# Runs oitref with ARGS ("|"-separated) and checks that it fails with exit status STATUS (2, an
+# error, unless given: README "Exit statuses"), that its error output contains EXPECT literally,
+# that it does not contain NOT_EXPECT (when given), and — when NO_FILE is given — that no such file
+# was left behind (nothing half-written).
 string(REPLACE "|" ";" args "${ARGS}")
 if(NO_FILE)
   file(REMOVE "${NO_FILE}")
 endif()
 execute_process(COMMAND ${OITREF} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(rc EQUAL 0)
-  message(FATAL_ERROR "expected a non-zero exit status; output:\n${out}${err}")
+if(NOT STATUS)
+  set(STATUS 2)
+endif()
+if(NOT rc EQUAL STATUS)
+  message(FATAL_ERROR "expected exit status ${STATUS}, got ${rc}; output:\n${out}${err}")
 endif()
 string(FIND "${err}" "${EXPECT}" at)
 if(at EQUAL -1)
@@ -15,4 +19,10 @@ if(at EQUAL -1)
 endif()
 if(NO_FILE AND EXISTS "${NO_FILE}")
   message(FATAL_ERROR "a failed run left ${NO_FILE} behind")
+endif()
+if(NOT_EXPECT)
+  string(FIND "${err}${out}" "${NOT_EXPECT}" leaked)
+  if(NOT leaked EQUAL -1)
+    message(FATAL_ERROR "the output must not contain:\n  ${NOT_EXPECT}\ngot:\n${out}${err}")
+  endif()
 endif()

@@ -320,3 +320,38 @@ TEST_CASE("bad input: cameras whose fp32 projection shows nothing are refused by
   c.fovYDegrees = 1e-40f;
   CHECK_THAT(errorOf([&] { (void)c.projection(1.0f); }), Catch::Contains("camera: the perspective projection of fov_y"));
 }
+
+TEST_CASE("bad input: mesh headers that declare more than the file holds or the memory limit allows", "[bad_input]") {
+  // 400 M vertices declared in a few hundred bytes: Assimp took 4.7 GB (binary PLY), 9.4 GB (OFF)
+  // or more than 100 s (ASCII PLY) before failing; now the header's counts refuse them at once.
+  const std::string plyHeader = "element vertex 400000000\nproperty float x\nproperty float y\nproperty float z\n"
+                                "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  // Binary: 400 M × 12 bytes of vertices and one face of at least its 1-byte count.
+  CHECK_THAT(meshError("huge.ply", "ply\nformat binary_little_endian 1.0\n" + plyHeader + std::string(100, '\0')),
+             Catch::Contains("huge.ply': its header declares 400000000 × element 'vertex', 1 × element 'face', at least "
+                             "4800000001 bytes of data, but the file holds 100 bytes after its header"));
+  // ASCII: each of the 4 values of an item at least a character and a separator.
+  CHECK_THAT(meshError("huge_ascii.ply", "ply\r\nformat ascii 1.0\r\n" + plyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+             Catch::Contains("at least 2400000002 bytes of data, but the file holds 26 bytes after its header"));
+  CHECK_THAT(meshError("huge.off", "OFF\n400000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+             Catch::Contains("huge.off': its header declares 400000000 vertices and 1 faces, at least 2400000002 bytes of "
+                             "data, but the file holds 26 bytes after its header"));
+  CHECK_THAT(meshError("comment.off", "COFF # counts follow\n\n400000000 2 0\n0 0 0\n"),
+             Catch::Contains("at least 2400000004 bytes of data, but the file holds 6 bytes after its header"));
+  // A file that holds what it declares, but whose arrays would exceed the memory limit:
+  // 3 vertices × 28 B + 1 face × 12 B = 96 B.
+  const std::string tri = binaryPlyTriangle({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2});
+  const std::string path = write("tri.ply", tri);
+  CHECK_THAT(errorOf([&] { loadMesh(path, 120.0, 95); }),
+             Catch::Contains("tri.ply': its header declares 3 vertices and 1 faces, at least 96 B once loaded (28 bytes a "
+                             "vertex, 12 a face), above the memory limit of 95 B (--memory-limit)"));
+  CHECK(loadMesh(path, 120.0, 96).indices.size() == 3);
+  // Files that hold what they declare load as before (the built-in bunny, ASCII and binary PLY).
+  CHECK(loadMesh(OITREF_SOURCE_DIR "/scenes/meshes/bunny.ply").positions.size() > 0);
+  CHECK(loadMesh(write("ok.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")).indices.size() == 3);
+  // In a scene, the limit is the command's --memory-limit (loadScene's).
+  write("tri_scene.ply", tri);
+  const std::string scene = write("tri_scene.json", R"({"objects": [{"type": "mesh", "file_path": "tri_scene.ply"}]})");
+  CHECK_THAT(errorOf([&] { loadScene(scene, 95); }),
+             Catch::Contains("tri_scene.json: objects[0].file_path: mesh '") && Catch::Contains("above the memory limit of 95 B"));
+}

@@ -3,6 +3,7 @@
 // texture fields and their errors. Expected values are closed forms of the view (a quad facing
 // the camera, whose texture coordinates are affine in the window), not recorded output.
 #include <catch2/catch.hpp>
+#include <zlib.h>
 
 #include <cmath>
 
@@ -189,4 +190,27 @@ TEST_CASE("textured scene: textures load beside the model, and bad ones are erro
         "objects[0].sampler.mag_filter: must be nearest or linear");
   fails(R"({"type": "mesh", "file_path": "textured.obj", "sampler": {"wrap_s": "clamp"}})", "unknown wrap mode 'clamp'");
   fails(R"({"type": "mesh", "file_path": "textured.obj", "texture": "m.mtl"})", "m.mtl': cannot read the image");
+
+  // Declared sizes refused before any pixel is read: a 74-byte PNG whose header says 16384x16384
+  // RGBA8 (1.2 GB and 3.5 s to fail inside libpng before), and a texture above the memory limit.
+  auto pngChunk = [](const std::string& type, const std::string& data) {
+    auto be32 = [](uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
+    const std::string body = type + data;
+    return be32(uint32_t(data.size())) + body + be32(uint32_t(crc32(0, reinterpret_cast<const Bytef*>(body.data()), uInt(body.size()))));
+  };
+  const std::string ihdr = std::string("\0\0\x40\0\0\0\x40\0", 8) + std::string("\x08\x06\0\0\0", 5);  // 16384², RGBA8
+  const std::string idat = std::string("\x78\x9c\x63\x00\x00\x00\x01\x00\x01", 9);  // zlib: one zero byte
+  test::writeFile(dir, "huge.png", "\x89PNG\r\n\x1a\n" + pngChunk("IHDR", ihdr) + pngChunk("IDAT", idat) + pngChunk("IEND", ""));
+  // 16384 rows of a filter byte and 65536 sample bytes: 1,073,758,208 raw bytes.
+  fails(R"({"type": "mesh", "file_path": "uv.obj", "texture": "huge.png"})",
+        "huge.png': its PNG header declares 16384x16384 with 4 channels of 8 bits, 1073758208 bytes before compression, "
+        "which no PNG of 66 bytes can hold");
+  // The most a PNG can be compressed still loads: 512x512 zeros (RGBA8: 1,049,088 raw bytes).
+  tools::writeImage((dir / "zeros.png").string(), Image(makeFormat(FormatId::RGBA8), 512, 512));
+  CHECK(loadScene(scene(R"({"type": "mesh", "file_path": "uv.obj", "texture": "zeros.png"})")).objects[0].texture);
+  // 2x2 RGBA8 (tex.png): 16 bytes read, 16 kept: 32 B.
+  const std::string small = scene(R"({"type": "mesh", "file_path": "uv.obj", "texture": "tex.png"})");
+  CHECK_THROWS_WITH(loadScene(small, 31), Catch::Contains("tex.png': 2x2 with 4 channels needs at least 32 B to load, above the "
+                                                          "memory limit of 31 B (--memory-limit)"));
+  CHECK(loadScene(small, 32).objects[0].texture);
 }

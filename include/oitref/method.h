@@ -18,6 +18,7 @@
 #include "oitref/depth.h"
 #include "oitref/format.h"
 #include "oitref/image.h"
+#include "oitref/memory_limit.h"
 #include "oitref/profile.h"
 #include "oitref/renderer.h"
 #include "oitref/scene.h"
@@ -183,10 +184,6 @@ class Method {
 
 // Throws std::runtime_error when the method's memoryNeed exceeds `limit`, listing the items.
 void checkMemory(const Method& method, int width, int height, const SceneGeometry& geometry, uint64_t limit);
-// Half of the machine's physical memory: the default --memory-limit.
-uint64_t defaultMemoryLimit();
-// "1.5 MiB" style.
-std::string formatBytes(uint64_t bytes);
 
 std::vector<MethodInfo> allMethods();
 // Throws std::invalid_argument for an unknown method (with the nearest name) or bad options.

@@ -113,13 +113,16 @@ struct Scene {
 
 // Loads a scene file and its meshes. Throws SceneError naming the file, the JSON field
 // (e.g. "objects[2].color_override[3]") and what was expected.
-Scene loadScene(const std::string& path);
+// `memoryLimit` (--memory-limit) bounds what a mesh file's header may declare (loadMesh).
+Scene loadScene(const std::string& path, uint64_t memoryLimit = UINT64_MAX);
 // Parses scene JSON text; `path` names it in errors and anchors relative mesh paths.
 Scene parseScene(const std::string& jsonText, const std::string& path);
 // Loads a mesh through Assimp (OBJ, PLY ascii/binary with vertex colours, FBX, glTF, ...), in a
 // child process that may take at most `timeoutSeconds`: a malformed file is a SceneError, even
-// when it makes Assimp abort or hang.
-TriangleMesh loadMesh(const std::string& path, double timeoutSeconds = 120.0);
+// when it makes Assimp abort or hang. Before Assimp runs, counts that the file's header declares
+// (PLY, OFF) are held against the file's size and `memoryLimit`: a 277-byte file cannot make it
+// allocate gigabytes.
+TriangleMesh loadMesh(const std::string& path, double timeoutSeconds = 120.0, uint64_t memoryLimit = UINT64_MAX);
 
 struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;

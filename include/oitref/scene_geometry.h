@@ -21,6 +21,7 @@ inline constexpr int kSceneAttributeCount = 6;
 struct ScenePart {
   size_t objectIndex = 0;
   bool transparent = false;
+  bool alphaTested = false;          // its fragments may be discarded (the object's alpha test)
   std::vector<glm::vec3> positions;  // world space
   std::vector<float> attributes;     // kSceneAttributeCount per vertex
   std::vector<uint32_t> indices;     // three per triangle, in submission order
@@ -29,6 +30,7 @@ struct ScenePart {
 
 struct SceneGeometry {
   std::vector<ScenePart> parts;  // one per object, in the scene's object order
+  Camera camera;                 // the camera it was built for
   size_t triangleCount() const;
 };
 

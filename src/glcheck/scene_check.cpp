@@ -116,7 +116,7 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
   Renderer renderer(RendererOptions{.threads = o.threads});
   std::vector<SceneCheckRow> rows;
   for (const std::string& path : o.scenes) {
-    Scene scene = loadScene(path);
+    Scene scene = loadScene(path, o.memoryLimit);
     if (o.width > 0) scene.width = o.width, scene.height = o.height;
     const SceneGeometry geometry = buildSceneGeometry(scene);
     const FrameContext frame{scene, geometry, scene.width, scene.height, profile, renderer, o.memoryLimit};

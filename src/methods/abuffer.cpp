@@ -9,10 +9,12 @@
 // then a storing pass. Each tile's pixels belong to one worker, so the per-pixel writes of the
 // fragment shader are race-free and in submission order.
 #include <algorithm>
+#include <atomic>
 #include <numeric>
 #include <stdexcept>
 
 #include "methods/depth_order.h"
+#include "methods/fragment_bound.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
 
@@ -20,6 +22,15 @@ namespace oitref::methods {
 namespace {
 
 using StoredFragment = TransparentFragment;
+
+// Thrown by the counting pass's shader to end the pass early (caught in render()).
+struct TooManyFragments {};
+
+// A number per rendered frame, so that a worker's pending count never carries into another frame.
+uint64_t nextFrameId() {
+  static std::atomic<uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
 
 // OVER back to front of the list's fragments in `order` (front to back), onto both backgrounds.
 template <typename Real>
@@ -46,14 +57,23 @@ class Abuffer final : public Method {
       : useDouble_(o.text("precision") == "double"), maxFragments_(uint64_t(o.number("max_fragments"))) {}
   const MethodInfo& info() const override { return abufferInfo(); }
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
-  // The per-pixel lists' heads; the fragments themselves are checked after the counting pass.
+  // The frame's own buffers, and the fragments that the geometry alone shows it must store
+  // (fragment_bound.h): a frame that cannot fit is refused before anything is allocated. The
+  // fragments themselves are counted, and checked again, by the counting pass.
   std::vector<MemoryItem> memoryNeed(int width, int height, const SceneGeometry& geometry) const override {
-    std::vector<MemoryItem> items = Method::memoryNeed(width, height, geometry);
-    items.push_back({"fragment counts, offsets and fill levels (16 B/pixel)", uint64_t(width) * uint64_t(height) * 16});
+    std::vector<MemoryItem> items = frameBuffers(width, height, geometry);
+    const uint64_t fragments = transparentFragmentsAtLeast(geometry, width, height);
+    items.push_back({"transparent fragments, at least " + std::to_string(fragments) + " (" +
+                         std::to_string(sizeof(StoredFragment)) + " B each; those of the triangles in front of every opaque one)",
+                     fragments * sizeof(StoredFragment)});
     return items;
   }
 
   FrameResult render(const FrameContext& context) override {
+    if (const uint64_t least = transparentFragmentsAtLeast(context.geometry, context.width, context.height); least > maxFragments_)
+      throw std::runtime_error("A-buffer: at least " + std::to_string(least) +
+                               " fragments (those of the triangles in front of every opaque one) exceed max_fragments=" +
+                               std::to_string(maxFragments_) + ". Raise it with --set max_fragments=N or render smaller.");
     FrameResult result;
     FrameTargets t(attachments(), context);
     PassRunner run(context, result);
@@ -64,28 +84,55 @@ class Abuffer final : public Method {
     depthOnly.depth = &t.depth("depth");
     const PipelineState st = transparentState(context.profile, BlendState{});
 
+    // The fragments that fit beside the frame's own buffers and under max_fragments. The counting
+    // pass stops as soon as it has counted more (a 16384² frame of `dense` counted for five
+    // minutes before its total was refused): each worker adds its count to the shared total every
+    // few thousand fragments, so what has been added never exceeds the true count, and a frame
+    // that fits is never stopped.
+    uint64_t known = 0;
+    for (const MemoryItem& i : frameBuffers(w, h, context.geometry)) known += i.bytes;
+    const uint64_t spare = context.memoryLimit > known ? context.memoryLimit - known : 0;
+    const uint64_t fitting = std::min(maxFragments_, spare / sizeof(StoredFragment));
     std::vector<uint32_t> count(pixels, 0);
-    run.transparentPositionPass("count", depthOnly, st, [&](const FragmentBatch& in, FragmentBatchOutput&) {
-      uint32_t* row = count.data() + size_t(in.y) * w;
-      for (int i = 0; i < in.count; ++i) ++row[in.x[i]];
-    });
+    std::atomic<uint64_t> counted{0};
+    const uint64_t frameId = nextFrameId();
+    bool stopped = false;
+    try {
+      run.transparentPositionPass("count", depthOnly, st, [&](const FragmentBatch& in, FragmentBatchOutput&) {
+        uint32_t* row = count.data() + size_t(in.y) * w;
+        for (int i = 0; i < in.count; ++i) ++row[in.x[i]];
+        thread_local struct { uint64_t frame = 0, pending = 0; } local;
+        if (local.frame != frameId) local = {frameId, 0};
+        if ((local.pending += uint64_t(in.count)) < 4096) return;
+        const uint64_t total = counted.fetch_add(local.pending, std::memory_order_relaxed) + local.pending;
+        local.pending = 0;
+        if (total > fitting) throw TooManyFragments{};
+      });
+    } catch (const TooManyFragments&) {
+      stopped = true;
+    }
+    if (stopped) {  // what is known then: the frame needs more than `fitting` fragments
+      if (fitting == maxFragments_)
+        throw std::runtime_error("A-buffer: more than max_fragments=" + std::to_string(maxFragments_) +
+                                 " fragments (the count stopped there). Raise it with --set max_fragments=N or render smaller.");
+      throw std::runtime_error("A-buffer: more than " + std::to_string(fitting) + " fragments (" +
+                               formatBytes(fitting * sizeof(StoredFragment)) + "), which is what fits beside the frame's own " +
+                               formatBytes(known) + " under the memory limit of " + formatBytes(context.memoryLimit) +
+                               " (the count stopped there). Render smaller or raise --memory-limit.");
+    }
     const uint64_t total = std::accumulate(count.begin(), count.end(), uint64_t(0));
     const size_t deepest = size_t(std::max_element(count.begin(), count.end()) - count.begin());
-    uint64_t known = 0;
-    for (const MemoryItem& i : memoryNeed(w, h, context.geometry)) known += i.bytes;
+    const std::string deepestText = "; the deepest pixel (" + std::to_string(deepest % w) + "," + std::to_string(deepest / w) +
+                                    ") has " + std::to_string(count[deepest]) + " layers.";
     const uint64_t fragmentBytes = total * sizeof(StoredFragment);
     if (known + fragmentBytes > context.memoryLimit)
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments need " + formatBytes(fragmentBytes) +
                                " (plus " + formatBytes(known) + " for the frame), above the memory limit of " +
-                               formatBytes(context.memoryLimit) + "; the deepest pixel (" + std::to_string(deepest % w) +
-                               "," + std::to_string(deepest / w) + ") has " + std::to_string(count[deepest]) +
-                               " layers. Render smaller or raise --memory-limit.");
+                               formatBytes(context.memoryLimit) + deepestText + " Render smaller or raise --memory-limit.");
     if (total > maxFragments_)
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments exceed max_fragments=" +
                                std::to_string(maxFragments_) + " (" + std::to_string(total * sizeof(StoredFragment) >> 20) +
-                               " MiB); the deepest pixel (" + std::to_string(deepest % w) + "," + std::to_string(deepest / w) +
-                               ") has " + std::to_string(count[deepest]) +
-                               " layers. Raise it with --set max_fragments=N or render smaller.");
+                               " MiB)" + deepestText + " Raise it with --set max_fragments=N or render smaller.");
     std::vector<uint64_t> start(pixels + 1, 0);
     for (size_t p = 0; p < pixels; ++p) start[p + 1] = start[p] + count[p];
     std::vector<StoredFragment> fragments(total);
@@ -132,6 +179,12 @@ class Abuffer final : public Method {
   }
 
  private:
+  // The attachments and copies of every method, and the lists' heads.
+  std::vector<MemoryItem> frameBuffers(int width, int height, const SceneGeometry& geometry) const {
+    std::vector<MemoryItem> items = Method::memoryNeed(width, height, geometry);
+    items.push_back({"fragment counts, offsets and fill levels (16 B/pixel)", uint64_t(width) * uint64_t(height) * 16});
+    return items;
+  }
   bool useDouble_;
   uint64_t maxFragments_;
 };

@@ -1,6 +1,4 @@
 // The list of methods, their options, and the pieces of the Method interface they share.
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -159,16 +157,6 @@ std::vector<MemoryItem> Method::memoryNeed(int width, int height, const SceneGeo
           {"presented RGBA8 copy (4 B/pixel)", pixels * 4}};
 }
 
-std::string formatBytes(uint64_t bytes) {
-  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
-  double v = double(bytes);
-  int u = 0;
-  while (v >= 1024.0 && u < 6) v /= 1024.0, ++u;
-  char text[32];
-  std::snprintf(text, sizeof text, u == 0 ? "%.0f %s" : "%.1f %s", v, units[u]);
-  return text;
-}
-
 void checkMemory(const Method& method, int width, int height, const SceneGeometry& geometry, uint64_t limit) {
   const std::vector<MemoryItem> items = method.memoryNeed(width, height, geometry);
   uint64_t total = 0;
@@ -179,12 +167,6 @@ void checkMemory(const Method& method, int width, int height, const SceneGeometr
   throw std::runtime_error("method '" + method.info().name + "' at " + std::to_string(width) + "x" + std::to_string(height) +
                            " needs " + formatBytes(total) + ", above the memory limit of " + formatBytes(limit) +
                            " (--memory-limit):" + list + "\nRender smaller or raise --memory-limit.");
-}
-
-uint64_t defaultMemoryLimit() {
-  const long pages = sysconf(_SC_PHYS_PAGES), pageSize = sysconf(_SC_PAGESIZE);
-  if (pages <= 0 || pageSize <= 0) return uint64_t(4) << 30;  // unknown: 4 GiB
-  return uint64_t(pages) * uint64_t(pageSize) / 2;
 }
 
 std::vector<MethodInfo> allMethods() {

@@ -4,6 +4,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <exception>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -29,17 +31,28 @@ namespace {
 // owned by one worker), not oneTBB's.
 thread_local int tlsThreads = 1;
 
+// An exception from a body (a shader that ends its pass, as the A-buffer's count) stops the
+// remaining items and is rethrown on the calling thread, as oneTBB does.
 template <typename Body>
 void workerParallelFor(size_t n, Body&& body) {
   std::atomic<size_t> next{0};
+  std::exception_ptr failure;
+  std::mutex failureMutex;
   auto work = [&] {
     const DefaultFloatingPoint fp;
-    for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
+    try {
+      for (size_t i; (i = next.fetch_add(1)) < n;) body(i);
+    } catch (...) {
+      next = n;
+      const std::lock_guard<std::mutex> lock(failureMutex);
+      if (!failure) failure = std::current_exception();
+    }
   };
   std::vector<std::thread> workers;
   for (int t = 1; t < tlsThreads; ++t) workers.emplace_back(work);
   work();
   for (std::thread& w : workers) w.join();
+  if (failure) std::rethrow_exception(failure);
 }
 #else
 // Every task of a draw runs under the default floating-point environment (fp_environment.h):

@@ -1,5 +1,6 @@
 #include "scene/isolated_import.h"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -93,6 +94,10 @@ TriangleMesh importIsolated(const std::string& path, MeshImporter import, double
   }
   if (child == 0) {
     ::close(fds[0]);
+    // Assimp writes its internal assertions ("ai_assert failure in …TriangulateProcess.cpp")
+    // to stderr before it aborts: the user gets oitref's error naming the file instead.
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) ::dup2(null, STDOUT_FILENO), ::dup2(null, STDERR_FILENO);
     runChild(fds[1], path, import);
   }
   ::close(fds[1]);

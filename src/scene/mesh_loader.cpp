@@ -13,31 +13,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 #include "oitref/scene.h"
 #include "scene/colour_rule.h"
 #include "scene/isolated_import.h"
+#include "scene/mesh_header_check.h"
 
 namespace oitref {
 namespace {
-
-// Inputs on which Debian 12's Assimp (5.2.5) hangs instead of failing, found by fuzz_mesh
-// (tests/fuzz/regressions/fuzz_mesh): they are refused here, before Assimp sees them.
-//  * PLY whose header never reaches "end_header": the header reader loops at end of file.
-void rejectWhatAssimpCannotParse(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char head[4] = {};
-  in.read(head, 4);
-  if (in.gcount() == 4 && std::string(head, 4) == "ply\n") {
-    std::string line;
-    for (size_t bytes = 4; std::getline(in, line) && bytes < (size_t(1) << 20); bytes += line.size() + 1) {
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line == "end_header") return;
-    }
-    throw SceneError("mesh '" + path + "': PLY header has no end_header line (within its first MiB)");
-  }
-}
 
 // The diffuse texture a mesh's material names, resolved against the model's folder ("" for none).
 std::string diffuseTexture(const aiScene* scene, const aiMesh* mesh, const std::string& path) {
@@ -124,10 +107,10 @@ TriangleMesh importWithAssimp(const std::string& path) {
 
 }  // namespace
 
-TriangleMesh loadMesh(const std::string& path, double timeoutSeconds) {
+TriangleMesh loadMesh(const std::string& path, double timeoutSeconds, uint64_t memoryLimit) {
   if (!std::filesystem::exists(path)) throw SceneError("mesh file '" + path + "' does not exist");
   if (!std::filesystem::is_regular_file(path)) throw SceneError("mesh file '" + path + "' is not a regular file");
-  rejectWhatAssimpCannotParse(path);
+  detail::checkMeshHeader(path, memoryLimit);  // declared counts against the file and the limit
   return detail::importIsolated(path, importWithAssimp, timeoutSeconds);
 }
 

@@ -72,11 +72,13 @@ size_t SceneGeometry::triangleCount() const {
 
 SceneGeometry buildSceneGeometry(const Scene& scene) {
   SceneGeometry g;
+  g.camera = scene.camera;
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     ScenePart part = o.type == ObjectType::Mesh ? meshPart(o) : particlePart(o, scene.camera);
     part.objectIndex = i;
     part.transparent = o.isTransparent();
+    part.alphaTested = o.alphaTest.has_value();
     g.parts.push_back(std::move(part));
   }
   return g;

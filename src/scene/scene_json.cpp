@@ -215,7 +215,7 @@ Scene parseScene(const std::string& jsonText, const std::string& path) {
   return s;
 }
 
-Scene loadScene(const std::string& path) {
+Scene loadScene(const std::string& path, uint64_t memoryLimit) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw SceneError(path + ": is a folder, not a scene file");
   std::ifstream in(path, std::ios::binary);
@@ -233,7 +233,7 @@ Scene loadScene(const std::string& path) {
       auto it = loaded.find(o.filePath);
       if (it == loaded.end()) {
         try {
-          it = loaded.emplace(o.filePath, loadMesh(o.filePath)).first;
+          it = loaded.emplace(o.filePath, loadMesh(o.filePath, 120.0, memoryLimit)).first;
         } catch (const SceneError& e) {
           throw SceneError(field + ".file_path: " + e.what());
         }
@@ -252,7 +252,7 @@ Scene loadScene(const std::string& path) {
     auto t = textures.find({o.textureFile, o.textureFormat});
     if (t == textures.end()) {
       try {
-        t = textures.emplace(std::pair{o.textureFile, o.textureFormat}, detail::loadTextureFile(o.textureFile, o.textureFormat)).first;
+        t = textures.emplace(std::pair{o.textureFile, o.textureFormat}, detail::loadTextureFile(o.textureFile, o.textureFormat, memoryLimit)).first;
       } catch (const SceneError& e) {
         throw SceneError(field + (fromMaterial ? ".file_path: the model '" + o.filePath + "' names a texture: " : ".texture: ") +
                          e.what());

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "oitref/memory_limit.h"
 #include "oitref/scene.h"
 
 namespace oitref::detail {
@@ -21,7 +22,7 @@ uint8_t unorm8FromFloat(float v) {
 
 }  // namespace
 
-std::shared_ptr<const Texture2D> loadTextureFile(const std::string& path, TextureFormat format) {
+std::shared_ptr<const Texture2D> loadTextureFile(const std::string& path, TextureFormat format, uint64_t memoryLimit) {
   if (!std::filesystem::is_regular_file(path)) throw SceneError("texture '" + path + "' does not exist or is not a file");
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw SceneError("texture '" + path + "': cannot read the image: " + OIIO::geterror());
@@ -32,6 +33,26 @@ std::shared_ptr<const Texture2D> loadTextureFile(const std::string& path, Textur
                      " is outside 1.." + std::to_string(kMaxTextureSize));
   if (channels < 1) throw SceneError("texture '" + path + "': the image has no channels");
   const size_t samples = size_t(w) * size_t(h) * size_t(channels);
+  // Before any pixel is read (a 74-byte PNG declaring 16384x16384 took 1.2 GB and 3.5 s to fail):
+  // the file must be able to hold what its header declares, and the decoded image must fit.
+  const int bits = spec.get_int_attribute("oiio:BitsPerSample", int(spec.format.size() * 8));
+  if (std::string(in->format_name()) == "png") {
+    // Each row is a filter byte and its packed samples; deflate packs at most 1032 bytes into
+    // one (a 258-byte match in two 1-bit codes), so no PNG holds more than 1032 raw bytes a byte.
+    const uint64_t raw = uint64_t(h) * (1 + (uint64_t(w) * uint64_t(channels) * uint64_t(bits) + 7) / 8);
+    const uint64_t fileBytes = std::filesystem::file_size(path);
+    if (fileBytes * 1032 < raw)
+      throw SceneError("texture '" + path + "': its PNG header declares " + std::to_string(w) + "x" + std::to_string(h) +
+                       " with " + std::to_string(channels) + " channels of " + std::to_string(bits) + " bits, " +
+                       std::to_string(raw) + " bytes before compression, which no PNG of " + std::to_string(fileBytes) +
+                       " bytes can hold (deflate packs at most 1032 bytes into one)");
+  }
+  const uint64_t sampleBytes = spec.format == OIIO::TypeDesc::UINT8 ? 1 : spec.format == OIIO::TypeDesc::UINT16 ? 2 : 4;
+  const uint64_t need = uint64_t(samples) * (sampleBytes + (sampleBytes > 1 ? 1 : 0)) + uint64_t(w) * uint64_t(h) * 4;
+  if (need > memoryLimit)
+    throw SceneError("texture '" + path + "': " + std::to_string(w) + "x" + std::to_string(h) + " with " +
+                     std::to_string(channels) + " channels needs at least " + formatBytes(need) +
+                     " to load, above the memory limit of " + formatBytes(memoryLimit) + " (--memory-limit)");
   std::vector<uint8_t> bytes(samples);
   bool ok = true;
   if (spec.format == OIIO::TypeDesc::UINT8) {

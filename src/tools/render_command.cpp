@@ -28,12 +28,12 @@ int runRender(const RenderOptions& o) {
   std::unique_ptr<Method> method = makeMethod(o.method, options);
   const MethodOptions resolved(method->info(), options);
   if (!o.out.empty()) checkImagePath(o.out);  // before the frame: a bad path refuses at once
-  Scene scene = loadScene(o.scene);
+  const uint64_t limit = memoryLimitFrom(o.memoryLimit);
+  Scene scene = loadScene(o.scene, limit);
   if (!o.size.empty()) parseSize(o.size, "--size", scene.width, scene.height);
   const Profile profile = parseProfile(o.profile);
   const SceneGeometry geometry = buildSceneGeometry(scene);
   Renderer renderer(RendererOptions{.threads = o.threads});
-  const uint64_t limit = memoryLimitFrom(o.memoryLimit);
   checkMemory(*method, scene.width, scene.height, geometry, limit);
   AttachmentPool pool;  // repeated frames reuse their attachments
   const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, limit, &pool};

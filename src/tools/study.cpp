@@ -185,7 +185,7 @@ StudyResult runStudy(const StudyOptions& o, Renderer& renderer, const StudyProgr
   const int items = int(o.scenes.size() * variants.size());
   int item = 0;
   for (const std::string& path : o.scenes) {
-    Scene scene = loadScene(path);
+    Scene scene = loadScene(path, o.memoryLimit);
     if (o.width > 0) scene.width = o.width, scene.height = o.height;
     const SceneGeometry geometry = buildSceneGeometry(scene);
     const FrameContext context{scene, geometry, scene.width, scene.height, o.profile, renderer, o.memoryLimit};

@@ -27,7 +27,7 @@ std::string sceneName(const std::string& path) { return fs::path(path).stem().st
 
 SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const Profile& profile, int width, int height,
                          const std::string& outDir, uint64_t memoryLimit) {
-  Scene scene = loadScene(scenePath);
+  Scene scene = loadScene(scenePath, memoryLimit);
   if (width > 0) scene.width = width, scene.height = height;
   const SceneGeometry geometry = buildSceneGeometry(scene);
   const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, memoryLimit};
