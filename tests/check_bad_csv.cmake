@@ -1,9 +1,10 @@
 # Runs `oitref blend --cases` on a file with two bad lines and checks the messages name the line
-# and column, that the good line still produced output, and that the exit status is non-zero.
+# and column, that the good line still produced output, and that the exit status is 2 (an error:
+# README, "Exit statuses").
 execute_process(COMMAND ${OITREF} blend --cases ${CASES}
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(rc EQUAL 0)
-  message(FATAL_ERROR "expected a non-zero exit status")
+if(NOT rc EQUAL 2)
+  message(FATAL_ERROR "expected exit status 2, got ${rc}")
 endif()
 if(NOT err MATCHES "line 3, column 5 \\(dst_rgb\\): unknown blend factor 'one_minus_srx_alpha'")
   message(FATAL_ERROR "missing line-3 message, got:\n${err}")

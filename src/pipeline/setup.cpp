@@ -14,7 +14,11 @@ struct WindowVertex {
 WindowVertex toWindow(const ClipVertex& v, const SetupContext& c) {
   const double scale = double(int64_t(1) << c.raster.subpixelBits);
   const glm::dvec4& p = v.position;
-  const double xNdc = p.x / p.w, yNdc = p.y / p.w;
+  // The clipper keeps |x|, |y| ≤ G·w, but an intersection on an edge whose ends lie 1e30 apart
+  // can land outside by its own rounding (fuzz_camera: a window x of 9.7e25, beyond int64 once
+  // snapped). The clamp puts such a point back on the guard band; every point the clipper places
+  // inside is unchanged.
+  const double xNdc = std::clamp(p.x / p.w, -kGuardBand, kGuardBand), yNdc = std::clamp(p.y / p.w, -kGuardBand, kGuardBand);
   const double halfW = 0.5 * c.vw, halfH = 0.5 * c.vh;
   const double xw = xNdc * halfW + (c.vx + halfW);
   const double yw = yNdc * halfH + (c.vy + halfH);

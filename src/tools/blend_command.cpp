@@ -107,11 +107,11 @@ int runBatch(const BlendOptions& o) {
     const BlendComparison s =
         compareBlendCases(recorded.cases, recorded.texels, profile, recorded.lines, o.list, std::cout, "GPU");
     if (bad) std::cerr << "oitref blend: " << bad << " bad line(s) skipped\n";
-    return bad || s.destinationMismatches || s.resultMismatches ? 1 : 0;
+    return bad ? 2 : s.destinationMismatches || s.resultMismatches ? 1 : 0;  // an error before a difference
   }
   const int bad = runBlendCsv(csv, std::cout, std::cerr, profile, name);
   if (bad) std::cerr << "oitref blend: " << bad << " bad line(s) skipped\n";
-  return bad ? 1 : 0;
+  return bad ? 2 : 0;
 }
 
 }  // namespace
