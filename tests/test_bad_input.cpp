@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "oitref/method.h"
+#include "oitref/metrics.h"
 #include "oitref/scene_geometry.h"
 #include "temp_files.h"
 
@@ -313,6 +314,13 @@ TEST_CASE("bad input: cameras whose fp32 projection shows nothing are refused by
   CHECK_THAT(sceneError(scene(R"("near": 1e-30, "far": 1e30)")),
              Catch::Contains("s.json: camera: near 1e-30 and far 1e+30 are too far apart for fp32: the projection puts every "
                              "depth on the far plane"));
+  // Found by fuzz_camera: a denormal depth term (the rasterizer drew nothing, the ray cast NaN).
+  CHECK_THAT(sceneError(scene(R"("near": 7e-41, "far": 50)")),
+             Catch::Contains("s.json: camera: near 7.00005e-41 is so small that the perspective projection's depth term "
+                             "2·far·near/(far − near) is denormal in fp32"));
+  // Found by fuzz_camera: a camera beyond Embree's coordinate range aborted the process inside it.
+  CHECK_THAT(sceneError(R"({"objects": [], "camera": {"position": [-1.2e19, 0, 0], "target": [0, 0, 0]}})"),
+             Catch::Contains("s.json: camera: position -1.2e+19 lies beyond ±1.844e18, where the ray cast (Embree) cannot trace from"));
   // Extreme but workable cameras are taken, and the projection throws what the reader says.
   CHECK_THAT(sceneError(scene(R"("near": 0.1, "far": 1e37)")), Catch::Equals("no error"));
   CHECK_THAT(sceneError(scene(R"("near": 1e-6, "far": 1e6)")), Catch::Equals("no error"));
@@ -354,4 +362,41 @@ TEST_CASE("bad input: mesh headers that declare more than the file holds or the 
   const std::string scene = write("tri_scene.json", R"({"objects": [{"type": "mesh", "file_path": "tri_scene.ply"}]})");
   CHECK_THAT(errorOf([&] { loadScene(scene, 95); }),
              Catch::Contains("tri_scene.json: objects[0].file_path: mesh '") && Catch::Contains("above the memory limit of 95 B"));
+}
+
+TEST_CASE("bad input: extreme but valid cameras render what the ray cast sees", "[bad_input]") {
+  // Inputs with a meaningful answer are rendered, not refused: the rasterizer's A-buffer against
+  // the Embree ray cast (an independent ground truth), and the frame must not be blank.
+  const std::string quad = OITREF_SOURCE_DIR "/scenes/meshes/quad.obj";
+  for (const std::string camera : {R"("position": [0, 0, 3], "target": [0, 0, 0], "near": 0.1, "far": 1e37)",
+                                   R"("position": [0, 0, 3], "target": [0, 0, 0], "near": 1e-6, "far": 1e6)",
+                                   R"("position": [0.2, 0.1, 3], "target": [0.2, 0.1, 0], "fov_y": 1e-3)",
+                                   R"("position": [0.2, 0.1, 3], "target": [0.2, 0.1, 0], "fov_y": 1e-6)",
+                                   R"("position": [0, 0, 1e-4], "target": [0, 0, 0], "near": 1e-7, "far": 1)",
+                                   R"("position": [0.2, 0.1, 3], "target": [0.2, 0.1, 0], "fov_y": 1e-30)"}) {
+    INFO(camera);
+    const std::string json = R"({"resolution": [32, 24], "back": [0.1, 0.1, 0.1], "camera": {)" + camera + R"(}, "objects": [
+        {"type": "mesh", "file_path": ")" + quad + R"(", "color_override": [0.9, 0.3, 0.1, 0.5], "rotation": [0, 0, 20]},
+        {"type": "mesh", "file_path": ")" + quad + R"(", "color_override": [0.1, 0.4, 0.9, 0.5], "position": [0.3, 0, -0.5]}]})";
+    const Scene scene = loadScene(write("extreme.json", json));
+    const SceneGeometry geometry = buildSceneGeometry(scene);
+    Renderer renderer(RendererOptions{2, 0});
+    const FrameContext context{scene, geometry, 32, 24, exactProfile(), renderer};
+    const FrameResult rays = makeMethod("raycast")->render(context);
+    if (camera.find("1e-30") != std::string::npos) {
+      // Zoomed so far that the quads' fp32 clip coordinates (~1e32, the viewport spanning 384)
+      // cannot be clipped to within a pixel: the ray cast sees both quads everywhere, the
+      // rasterizer would have drawn a quarter of them; it refuses instead.
+      CHECK_THROWS_AS(makeMethod("abuffer")->render(context), RasterPrecisionError);
+      continue;
+    }
+    const FrameResult raster = makeMethod("abuffer")->render(context);
+    const ImageDifference d = compareImages(raster.finalFloat, rays.finalFloat, 1.0 / 255);
+    CHECK(d.nonFinitePixels == 0);
+    CHECK(d.shareWithin() >= 0.95);  // pixels on an edge may fall on either side in the two
+    int covered = 0;
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 32; ++x) covered += raster.finalFloat.fetch(x, y).r != 0.1f;
+    CHECK(covered > 0);
+  }
 }

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 
 #include "oitref/depth.h"
 #include "oitref/geometry.h"
@@ -58,6 +59,13 @@ struct RendererOptions {
   // Hand fragments to the fragment operations one at a time instead of as row spans with batched
   // blending: the same bits, slower; the oracle of the span path's tests.
   bool perFragment = false;
+};
+
+// A draw whose clipped triangles cannot be placed within a sub-pixel step from their fp32 clip
+// coordinates (clip coordinates far beyond the guard band: a camera zoomed to a tiny fov_y, or
+// geometry that far off its axis): drawSequence refuses it rather than draw rounding errors.
+struct RasterPrecisionError : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 // A renderer owns its worker arena and reuses its buffers between draws; one draw at a time.

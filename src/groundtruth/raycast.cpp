@@ -22,6 +22,10 @@
 namespace oitref::methods {
 namespace {
 
+// Embree's limit on coordinates (its FLT_LARGE, 1.844e18): vertices and ray origins beyond it
+// trip an assertion inside the library (fuzz_camera: a camera at x = −1.2e19 aborted the process).
+constexpr double kEmbreeLargest = 1.844e18;
+
 struct Hit {
   unsigned part, primitive;
   float u, v;
@@ -57,7 +61,12 @@ class EmbreeScene {
       auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                    3 * sizeof(float), std::max<size_t>(1, part.positions.size())));
       for (size_t v = 0; v < part.positions.size(); ++v)
-        for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = part.positions[v][k];
+        for (int k = 0; k < 3; ++k) {
+          if (!(std::fabs(part.positions[v][k]) <= kEmbreeLargest))
+            throw std::runtime_error("raycast: object " + std::to_string(part.objectIndex) + " has a vertex at " +
+                                     std::to_string(part.positions[v][k]) + " in world space, beyond Embree's range of ±1.844e18");
+          vertices[3 * v + size_t(k)] = part.positions[v][k];
+        }
       auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                      3 * sizeof(unsigned), part.triangleCount()));
       std::copy(part.indices.begin(), part.indices.end(), indices);
@@ -128,6 +137,16 @@ struct PixelRays {
     if (!std::isfinite(d.x) || !std::isfinite(d.y) || !std::isfinite(d.z)) {
       const glm::dvec4 m = inverse * glm::dvec4(ndc, 0.0, 1.0);
       d = glm::dvec3(m) / m.w - glm::dvec3(a) / a.w;
+    }
+    // Only the line matters, not its length. A near plane of 1e-40 makes the direction ~1e-41:
+    // denormal once in fp32, and Embree's hits NaN (fuzz_camera). One far outside [2^−30, 2^30]
+    // is scaled by a power of two, which moves none of its bits relative to each other; ordinary
+    // directions are left exactly as they were.
+    const double largest = std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)});
+    if (largest > 0.0 && std::isfinite(largest) && (largest < 0x1p-30 || largest > 0x1p30)) {
+      int exponent = 0;
+      std::frexp(largest, &exponent);
+      d = {std::ldexp(d.x, -exponent), std::ldexp(d.y, -exponent), std::ldexp(d.z, -exponent)};
     }
     return d;
   }
@@ -211,6 +230,9 @@ class Raycast final : public Method {
         if (!std::isfinite(direction.x) || !std::isfinite(direction.y) || !std::isfinite(direction.z))
           throw std::runtime_error("raycast: the camera gives no finite ray through pixel (" + std::to_string(x) + ", " +
                                    std::to_string(y) + ")");
+        for (int k = 0; k < 3; ++k)  // the camera's check refuses such positions; Embree asserts on them
+          if (!(std::fabs(origin[k]) <= kEmbreeLargest))
+            throw std::runtime_error("raycast: the camera lies beyond Embree's range of ±1.844e18");
         scene.allHits(glm::vec3(origin), glm::vec3(direction), hits);
         for (Hit& h : hits) h.viewDepth = double(h.viewDepth) * glm::dot(glm::dvec3(glm::vec3(direction)), forward);
         std::erase_if(hits, [&](const Hit& h) { return h.viewDepth < cam.nearPlane || h.viewDepth > cam.farPlane; });

@@ -49,6 +49,7 @@ void layoutBins(const TileGrid& grid, BinnedTriangles& bins) {
   for (const SetupChunk& c : bins.chunks) {
     bins.counters.rasterized += c.counters.rasterized;
     bins.counters.nonFinite += c.counters.nonFinite;
+    bins.counters.clipErrorPixels = std::max(bins.counters.clipErrorPixels, c.counters.clipErrorPixels);
   }
   // Prefix sums in (tile, chunk) order: cursor[c·tiles + tile] is where chunk c writes into tile.
   bins.cursor.resize(chunks * tiles);

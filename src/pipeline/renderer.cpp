@@ -2,8 +2,10 @@
 // oneTBB stays behind this file; stages only see a parallel-for.
 #include "oitref/renderer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <exception>
 #include <mutex>
 #include <optional>
@@ -222,6 +224,17 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
     }
   });
   stats.setupMs = msSince(t0);
+  double clipError = 0.0;
+  for (size_t d = 0; d < draws.size(); ++d) clipError = std::max(clipError, bins[d].counters.clipErrorPixels);
+  if (clipError > 1.0 / double(int64_t(1) << state.raster.subpixelBits)) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.3g", clipError);
+    throw RasterPrecisionError(std::string("the rasterizer cannot place the clipped triangles of this frame within a sub-pixel "
+                                           "step: their clip coordinates lie so far beyond the guard band that rounding may "
+                                           "move a clipped vertex by up to ") + text +
+                               " pixels (a camera zoomed to a tiny fov_y, or geometry that far off its axis); refused rather "
+                               "than drawn from rounding errors");
+  }
 
   t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));

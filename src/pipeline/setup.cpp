@@ -98,6 +98,21 @@ void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& cont
   ClipVertex polygon[kMaxClipVertices];
   const int n = clipTriangle(in, context.clipNearFar, polygon);
   if (n < 3) return;
+  // A vertex that clipping made is a few roundings of coordinates as large as the triangle's, so
+  // off by up to ~8·M·2^−53 in each; divided by its w and scaled to the viewport, that is how far
+  // it may be from where the exact intersection lies. Far beyond the guard band (clip
+  // coordinates of 1e32 where the viewport spans 384, from a camera zoomed to fov_y 1e-30) that is
+  // more than the whole viewport: such a draw is refused (drawSequence), not drawn from rounding.
+  double m = -1.0;  // computed for the first vertex that clipping made
+  for (int i = 0; i < n; ++i) {
+    const glm::dvec4& p = polygon[i].position;
+    if (p == in[0].position || p == in[1].position || p == in[2].position) continue;  // an original vertex: exact
+    if (m < 0.0)
+      for (const ClipVertex& v : in)
+        m = std::max({m, std::fabs(v.position.x), std::fabs(v.position.y), std::fabs(v.position.z), std::fabs(v.position.w)});
+    const double ndcError = 8.0 * m * 0x1p-53 * (1.0 + kGuardBand) / p.w;
+    counters.clipErrorPixels = std::max(counters.clipErrorPixels, ndcError * 0.5 * std::max(context.vw, context.vh));
+  }
   WindowVertex w[kMaxClipVertices];
   for (int i = 0; i < n; ++i) w[i] = toWindow(polygon[i], context);
   const glm::dvec4 clip[3] = {in[0].position, in[1].position, in[2].position};

@@ -69,6 +69,10 @@ struct SetupContext {
 
 struct SetupCounters {
   uint64_t rasterized = 0, nonFinite = 0;
+  // The largest distance, in pixels, by which rounding may have moved a vertex that clipping made
+  // (a bound: 0 where no triangle was clipped). Renderer::drawSequence refuses a draw where it
+  // exceeds a sub-pixel step.
+  double clipErrorPixels = 0;
 };
 
 // Assembles, clips and sets up triangle `t` of `geometry`, appending 0 or more SetupTriangles.

@@ -49,6 +49,23 @@ std::string Camera::projectionProblem(float aspect) const {
         return "the perspective projection of fov_y " + shortNumber(fovYDegrees) + ", near " + shortNumber(nearPlane) +
                ", far " + shortNumber(farPlane) + " is not finite in fp32" +
                (std::isfinite(p[1][1]) ? " (2·far·near overflows)" : " (1/tan(fov_y/2) overflows)");
+  // The ray cast traces from the camera's position, and Embree refuses coordinates beyond its
+  // FLT_LARGE (an assertion inside the library); at that distance fp32 cannot place a scene of
+  // ordinary size in view space anyway (an ulp of 1e18 is 1e11).
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(position[k]) <= 1.844e18f))
+      return "position " + shortNumber(position[k]) + " lies beyond ±1.844e18, where the ray cast (Embree) cannot trace from";
+  // A denormal entry (near 7e-41 makes the depth term 2·far·near/(far − near) one): GPUs flush
+  // fp32 denormals to zero in shaders, which puts every depth on the far plane, and oitref's fp32
+  // vertex stage keeps only a few bits of it, so nothing beyond a sliver past the near plane has
+  // a depth below 1 (fuzz_camera: the rasterizer drew nothing where the ray cast saw particles).
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (std::fpclassify(p[i][j]) == FP_SUBNORMAL)
+        return i == 3 && j == 2 ? "near " + shortNumber(nearPlane) + " is so small that the perspective projection's depth term " +
+                                      "2·far·near/(far − near) is denormal in fp32 (GPUs flush it to 0, putting every depth on the far plane)"
+                                : "the perspective projection of fov_y " + shortNumber(fovYDegrees) + " at aspect " + shortNumber(aspect) +
+                                      " has a denormal entry in fp32 (GPUs flush it to 0)";
   // The ray cast's rays through the view's corners (raycast.cpp, PixelRays): the near plane's
   // point to the far plane's, or to the middle depth's where the far one is at infinity.
   const glm::dmat4 inverse = glm::inverse(glm::dmat4(p) * glm::dmat4(view()));
