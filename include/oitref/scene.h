@@ -41,6 +41,11 @@
 
 namespace oitref {
 
+// The largest coordinate the ray cast can trace with: Embree's FLT_LARGE. Its ray origins and
+// vertices beyond it trip an assertion inside the library (a camera at x = −1.2e19 aborted the
+// process), so Camera::projectionProblem refuses such positions and the ray cast such vertices.
+inline constexpr float kRayCastLargestCoordinate = 1.844e18f;
+
 struct Camera {
   glm::vec3 position{0.0f, 0.0f, 5.0f};
   glm::vec3 target{0.0f};

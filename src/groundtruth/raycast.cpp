@@ -22,10 +22,6 @@
 namespace oitref::methods {
 namespace {
 
-// Embree's limit on coordinates (its FLT_LARGE, 1.844e18): vertices and ray origins beyond it
-// trip an assertion inside the library (fuzz_camera: a camera at x = −1.2e19 aborted the process).
-constexpr double kEmbreeLargest = 1.844e18;
-
 struct Hit {
   unsigned part, primitive;
   float u, v;
@@ -62,7 +58,7 @@ class EmbreeScene {
                                                                    3 * sizeof(float), std::max<size_t>(1, part.positions.size())));
       for (size_t v = 0; v < part.positions.size(); ++v)
         for (int k = 0; k < 3; ++k) {
-          if (!(std::fabs(part.positions[v][k]) <= kEmbreeLargest))
+          if (!(std::fabs(part.positions[v][k]) <= kRayCastLargestCoordinate))
             throw std::runtime_error("raycast: object " + std::to_string(part.objectIndex) + " has a vertex at " +
                                      std::to_string(part.positions[v][k]) + " in world space, beyond Embree's range of ±1.844e18");
           vertices[3 * v + size_t(k)] = part.positions[v][k];
@@ -231,7 +227,7 @@ class Raycast final : public Method {
           throw std::runtime_error("raycast: the camera gives no finite ray through pixel (" + std::to_string(x) + ", " +
                                    std::to_string(y) + ")");
         for (int k = 0; k < 3; ++k)  // the camera's check refuses such positions; Embree asserts on them
-          if (!(std::fabs(origin[k]) <= kEmbreeLargest))
+          if (!(std::fabs(origin[k]) <= kRayCastLargestCoordinate))
             throw std::runtime_error("raycast: the camera lies beyond Embree's range of ±1.844e18");
         scene.allHits(glm::vec3(origin), glm::vec3(direction), hits);
         for (Hit& h : hits) h.viewDepth = double(h.viewDepth) * glm::dot(glm::dvec3(glm::vec3(direction)), forward);

@@ -53,7 +53,7 @@ std::string Camera::projectionProblem(float aspect) const {
   // FLT_LARGE (an assertion inside the library); at that distance fp32 cannot place a scene of
   // ordinary size in view space anyway (an ulp of 1e18 is 1e11).
   for (int k = 0; k < 3; ++k)
-    if (!(std::fabs(position[k]) <= 1.844e18f))
+    if (!(std::fabs(position[k]) <= kRayCastLargestCoordinate))
       return "position " + shortNumber(position[k]) + " lies beyond ±1.844e18, where the ray cast (Embree) cannot trace from";
   // A denormal entry (near 7e-41 makes the depth term 2·far·near/(far − near) one): GPUs flush
   // fp32 denormals to zero in shaders, which puts every depth on the far plane, and oitref's fp32

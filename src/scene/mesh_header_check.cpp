@@ -67,7 +67,7 @@ void checkPly(const std::string& path, std::ifstream& in, uint64_t fileSize, uin
     std::istringstream words(line);
     std::string keyword;
     words >> keyword;
-    if (keyword == "end_header") {
+    if (line == "end_header") {  // exactly, as before: Assimp loops on a header it does not end
       ended = true;
       break;
     }
