@@ -364,6 +364,49 @@ TEST_CASE("bad input: mesh headers that declare more than the file holds or the 
              Catch::Contains("tri_scene.json: objects[0].file_path: mesh '") && Catch::Contains("above the memory limit of 95 B"));
 }
 
+TEST_CASE("bad input: a near plane too close for its far plane is refused where the rasterizer would lose geometry",
+          "[bad_input]") {
+  // The oracle is the two ground truths themselves: the camera set in code (loadScene would
+  // refuse it), the A-buffer's covered pixels against the ray cast's. depthPrecisionProblem must
+  // speak exactly where the rasterizer loses pixels that the ray cast sees.
+  const std::string quad = OITREF_SOURCE_DIR "/scenes/meshes/quad.obj";
+  struct Case {
+    float nearPlane, farPlane, distance;
+    bool refused;
+  };
+  for (const Case c : {Case{1e-6f, 1e6f, 100.0f, true}, Case{1e-6f, 1e3f, 100.0f, true}, Case{1e-6f, 1e6f, 1e5f, true},
+                       Case{1e-6f, 1e3f, 0.01f, false}, Case{1e-2f, 1e4f, 5.0f, false}, Case{1e-6f, 1e6f, 3.0f, false}}) {
+    INFO("near " << c.nearPlane << ", far " << c.farPlane << ", quad at distance " << c.distance);
+    const std::string json = R"({"resolution": [32, 24], "back": [0.1, 0.1, 0.1], "objects": [
+        {"type": "mesh", "file_path": ")" + quad + R"(", "color_override": [0.9, 0.3, 0.1, 0.5], "rotation": [0, 0, 20],
+         "scale": )" + std::to_string(0.8 * c.distance) + "}]}";
+    Scene scene = loadScene(write("depth_precision.json", json));
+    scene.camera.position = {0.0f, 0.0f, c.distance};
+    scene.camera.nearPlane = c.nearPlane, scene.camera.farPlane = c.farPlane;
+    const SceneGeometry geometry = buildSceneGeometry(scene);
+    CHECK(depthPrecisionProblem(geometry).empty() == !c.refused);
+    Renderer renderer(RendererOptions{2, 0});
+    const FrameContext context{scene, geometry, 32, 24, exactProfile(), renderer};
+    const FrameResult rays = makeMethod("raycast")->render(context), raster = makeMethod("abuffer")->render(context);
+    int lost = 0, seen = 0;
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 32; ++x) {
+        const bool rayCovered = rays.finalFloat.fetch(x, y).r != 0.1f, rasterCovered = raster.finalFloat.fetch(x, y).r != 0.1f;
+        seen += rayCovered;
+        lost += rayCovered && !rasterCovered;
+      }
+    CHECK(seen > 200);
+    if (c.refused) CHECK(lost > 0);
+    else CHECK(lost <= 12);  // pixels on an edge may fall on either side in the two
+  }
+  // The scene file names the camera's problem.
+  const std::string json = R"({"camera": {"position": [0, 0, 100], "target": [0, 0, 0], "near": 1e-6, "far": 1e3},
+      "objects": [{"type": "mesh", "file_path": ")" + quad + R"(", "scale": 30}]})";
+  CHECK_THAT(errorOf([&] { loadScene(write("near_too_close.json", json)); }),
+             Catch::Contains("near_too_close.json: camera: near 1e-06 and far 1000 leave fp32 depth no precision where "
+                             "objects[0] lies: at view distance 100"));
+}
+
 TEST_CASE("bad input: extreme but valid cameras render what the ray cast sees", "[bad_input]") {
   // Inputs with a meaningful answer are rendered, not refused: the rasterizer's A-buffer against
   // the Embree ray cast (an independent ground truth), and the frame must not be blank.

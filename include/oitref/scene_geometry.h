@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "oitref/geometry.h"
@@ -36,6 +37,12 @@ struct SceneGeometry {
 
 // Particles face the scene's camera, so the geometry is built for it.
 SceneGeometry buildSceneGeometry(const Scene& scene);
+
+// Why the rasterizer would lose geometry that the ray cast sees, or "": a surface no farther than
+// half the far distance whose depth rounds onto the far plane (the depth clear's D24 code), where
+// the LESS test against the clear fails (a near plane far too close for its far one). loadScene
+// refuses such scenes (depth_precision.cpp).
+std::string depthPrecisionProblem(const SceneGeometry& geometry);
 
 // The vertex stage: a part's triangles in clip space for the rasterizer.
 Geometry toClipGeometry(const ScenePart& part, const glm::mat4& viewProjection);

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "oitref/scene.h"
+#include "oitref/scene_geometry.h"
 #include "scene/colour_rule.h"
 #include "scene/texture_file.h"
 #include "util/did_you_mean.h"
@@ -260,6 +261,10 @@ Scene loadScene(const std::string& path, uint64_t memoryLimit) {
     }
     o.texture = t->second;
   }
+  // Both ground truths draw this geometry; where fp32 depth cannot hold it the rasterizer would
+  // lose what the ray cast sees (depth_precision.cpp).
+  if (const std::string problem = depthPrecisionProblem(buildSceneGeometry(s)); !problem.empty())
+    throw SceneError(path + ": camera: " + problem);
   return s;
 }
 

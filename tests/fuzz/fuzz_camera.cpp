@@ -4,6 +4,7 @@
 // at the frame's aspect (std::invalid_argument, as `render` reports it) or render with both the
 // rasterizer (wsum) and the ray cast into finite pixels — the rasterizer may refuse a frame whose
 // clip coordinates it cannot clip within a pixel (RasterPrecisionError); anything else is a finding.
+// The depth precision check that loadScene adds runs on every camera too.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -55,6 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   static oitref::Renderer renderer(oitref::RendererOptions{1, 0});
   const oitref::SceneGeometry geometry = oitref::buildSceneGeometry(scene);
+  (void)oitref::depthPrecisionProblem(geometry);  // loadScene's depth check (a reason or "", never a fault)
   const oitref::FrameContext context{scene, geometry, scene.width, scene.height, oitref::exactProfile(), renderer, uint64_t(1) << 30};
   try {
     (void)scene.camera.projection(float(scene.width) / float(scene.height));
