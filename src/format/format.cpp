@@ -197,11 +197,20 @@ glm::vec4 decodeChannels(int channels, const uint8_t* texel) {
 
 template <ChannelEncoding E, int Bytes, int Channels>
 glm::vec4 decodeFixedLayout(const Format&, const uint8_t* texel) {
+  if constexpr (E == ChannelEncoding::Half && Channels == 4) {  // RGBA16F: the four halves at once
+    glm::vec4 out;
+    detail::decodeHalf4Inline(texel, &out.x);
+    return out;
+  }
   return decodeChannels<E, Bytes>(Channels, texel);
 }
 
 template <ChannelEncoding E, int Bytes, int Channels>
 void decodeFixedLayoutRow(const Format&, const uint8_t* row, size_t texelBytes, const int* xs, int n, glm::vec4* out) {
+  if constexpr (E == ChannelEncoding::Half && Channels == 4) {  // RGBA16F: the four halves of a texel at once
+    for (int i = 0; i < n; ++i) detail::decodeHalf4Inline(row + size_t(xs[i]) * 8, &out[i].x);
+    return;
+  }
   for (int i = 0; i < n; ++i) out[i] = decodeChannels<E, Bytes>(Channels, row + size_t(xs[i]) * texelBytes);
 }
 void decodeRow(const Format& f, const uint8_t* row, size_t texelBytes, const int* xs, int n, glm::vec4* out) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 #include "oitref/minifloat.h"
 #if defined(OITREF_HAVE_F16C)
@@ -24,6 +25,21 @@ inline float decodeHalfInline(uint16_t bits) {
   return _cvtsh_ss(bits);
 #else
   return decodeMinifloat(bits, kHalfSpec);
+#endif
+}
+
+// Four consecutive halves (an RGBA16F texel) into four floats: one conversion for the four, the
+// same per-element rule as decodeHalfInline (VCVTPH2PS, exact for every half).
+inline void decodeHalf4Inline(const uint8_t* texel, float* out) {
+#if defined(OITREF_HAVE_F16C)
+  const __m128 f = _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(texel)));  // 8 bytes, unaligned
+  std::memcpy(out, &f, 16);
+#else
+  for (int c = 0; c < 4; ++c) {
+    uint16_t bits;
+    std::memcpy(&bits, texel + 2 * c, 2);
+    out[c] = decodeHalfInline(bits);
+  }
 #endif
 }
 
