@@ -72,6 +72,8 @@ class Image {
   }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
   void store(int x, int y, const glm::vec4& value, const Profile& profile);
+  // store(xs[i], y, values[i], profile) for i < n: the floating-point environment set once.
+  void storeRow(int y, const int* xs, int n, const glm::vec4* values, const Profile& profile);
   // glClearBuffer: every texel gets the converted clear value.
   void clear(const glm::vec4& value, const Profile& profile);
 

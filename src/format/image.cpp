@@ -39,6 +39,12 @@ void Image::store(int x, int y, const glm::vec4& value, const Profile& profile) 
   encodeTexel(format_, value, profile, texel(x, y));
 }
 
+void Image::storeRow(int y, const int* xs, int n, const glm::vec4* values, const Profile& profile) {
+  const DefaultFloatingPoint fp;
+  uint8_t* row = texel(0, y);
+  for (int i = 0; i < n; ++i) encodeTexel(format_, values[i], profile, row + size_t(xs[i]) * texelBytes_);
+}
+
 void Image::clear(const glm::vec4& value, const Profile& profile) {
   const DefaultFloatingPoint fp;
   encodeTexel(format_, value, profile, bytes_.data());

@@ -115,7 +115,6 @@ class Mboit final : public Method {
     // A = −ln(1 − α), α clamped below 1; the logarithms of a batch together (detLogBatch: the
     // same bits as one at a time).
     auto logArgument = [](float alpha) { return 1.0 - double(std::min(alpha, 1.0f - 0x1p-20f)); };
-    auto absorbanceOf = [&](float alpha) { return float(-detLog(logArgument(alpha))); };
     auto absorbancesOf = [&](const glm::vec4* colors, int count, float* a) {
       double x[kShaderBatch], ln[kShaderBatch];
       for (int i = 0; i < count; ++i) x[i] = logArgument(colors[i].a);
@@ -125,9 +124,8 @@ class Mboit final : public Method {
     const MomentSet set = set_;
     const int reals = set.reals();
     const WrappingZone zone = WrappingZone::fromAngle(set.trigonometric ? kWrappingZoneAngle : 0.0f);
-    auto loadMoments = [&](int x, int y, float* out) {
-      const glm::vec4 lo = momentImages[0]->fetch(x, y);
-      const glm::vec4 hi = momentImages[1] ? momentImages[1]->fetch(x, y) : glm::vec4(0.0f);
+    // A pixel's stored moments from its texels: lo the first four, hi the rest.
+    auto gatherMoments = [reals](const glm::vec4& lo, const glm::vec4& hi, float* out) {
       for (int k = 0; k < reals; ++k) out[k] = k < 4 ? lo[k] : hi[k - 4];
     };
 
@@ -158,24 +156,41 @@ class Mboit final : public Method {
                                  }
                                });
     } else {
-      run.transparentPass("moments", momentFb, transparentState(profile, BlendState{}),
-                          [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput&) {
-                            const float a = absorbanceOf(c.a);
-                            if (a < 1e-7f) return;
-                            float q[8] = {}, m[8] = {}, mq[8] = {};
-                            float b0 = b0Image.fetch(in.x, in.y).r;
-                            loadMoments(in.x, in.y, q);
-                            offsetQuantised(set, q, -1.0f);
-                            for (int k = 0; k < reals; ++k) q[k] *= b0;
-                            momentsOf(set, warp(in), zone, m);
-                            quantiseMoments(set, m, mq);
-                            b0 += a;
-                            for (int k = 0; k < reals; ++k) q[k] = (q[k] + mq[k] * a) / b0;
-                            offsetQuantised(set, q, 1.0f);
-                            b0Image.store(in.x, in.y, glm::vec4(b0), profile);
-                            momentImages[0]->store(in.x, in.y, glm::vec4(q[0], q[1], q[2], q[3]), profile);
-                            if (momentImages[1]) momentImages[1]->store(in.x, in.y, glm::vec4(q[4], q[5], q[6], q[7]), profile);
-                          });
+      // Read-modify-write in raster order: a batch's fragments lie in distinct pixels of one row,
+      // and the batches of a pixel come in primitive order, so a batch reads its texels, updates
+      // them and writes them back as each fragment would alone.
+      run.transparentBatchPass("moments", momentFb, transparentState(profile, BlendState{}),
+                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput&) {
+                                 const int count = in.count;
+                                 float absorbance[kShaderBatch];
+                                 absorbancesOf(colors, count, absorbance);
+                                 glm::vec4 b0s[kShaderBatch], lo[kShaderBatch], hi[kShaderBatch];
+                                 b0Image.fetchRow(in.y, in.x, count, b0s);
+                                 momentImages[0]->fetchRow(in.y, in.x, count, lo);
+                                 if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
+                                 int xs[kShaderBatch], n = 0;  // the fragments that add moments, and their texels
+                                 for (int i = 0; i < count; ++i) {
+                                   const float a = absorbance[i];
+                                   if (a < 1e-7f) continue;
+                                   float q[8] = {}, m[8] = {}, mq[8] = {};
+                                   float b0 = b0s[i].r;
+                                   gatherMoments(lo[i], hi[i], q);
+                                   offsetQuantised(set, q, -1.0f);
+                                   for (int k = 0; k < reals; ++k) q[k] *= b0;
+                                   momentsOf(set, warp(in[i]), zone, m);
+                                   quantiseMoments(set, m, mq);
+                                   b0 += a;
+                                   for (int k = 0; k < reals; ++k) q[k] = (q[k] + mq[k] * a) / b0;
+                                   offsetQuantised(set, q, 1.0f);
+                                   xs[n] = in.x[i];
+                                   b0s[n] = glm::vec4(b0);
+                                   lo[n] = glm::vec4(q[0], q[1], q[2], q[3]);
+                                   hi[n++] = glm::vec4(q[4], q[5], q[6], q[7]);
+                                 }
+                                 b0Image.storeRow(in.y, xs, n, b0s, profile);
+                                 momentImages[0]->storeRow(in.y, xs, n, lo, profile);
+                                 if (momentImages[1]) momentImages[1]->storeRow(in.y, xs, n, hi, profile);
+                               });
     }
 
     const float bias = bias_, overestimation = overestimation_;
@@ -199,10 +214,8 @@ class Mboit final : public Method {
       // The batch's texels a row at a time (Image::fetchRow: the layout decided once).
       glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch], hi[kShaderBatch];
       b0Image.fetchRow(in.y, in.x, count, b0Texels);
-      if (!quantised) {
-        momentImages[0]->fetchRow(in.y, in.x, count, lo);
-        if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
-      }
+      momentImages[0]->fetchRow(in.y, in.x, count, lo);
+      if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
       for (int i = 0; i < count; ++i) {
         const float b0 = b0Texels[i].r;
         clear[i] = b0 < 0.00100050033f;
@@ -211,7 +224,7 @@ class Mboit final : public Method {
         float* b = moments + size_t(n) * size_t(reals);
         if (quantised) {
           float stored[8] = {};
-          loadMoments(in.x[i], in.y, stored);
+          gatherMoments(lo[i], hi[i], stored);
           dequantiseMoments(set, stored, b);
         } else if (reals > 4) {
           for (int k = 0; k < reals; ++k) b[k] = (k < 4 ? lo[i][k] : hi[i][k - 4]) / b0;
