@@ -25,6 +25,9 @@ inline v4f loadFloatTexel(const uint8_t* texel) {
 }
 template <int Channels>
 inline v4f loadHalfTexel(const uint8_t* texel) {
+#if defined(OITREF_HAVE_F16C)
+  if constexpr (Channels == 4) return (v4f)decodeHalf4Vector(texel);
+#endif
   uint16_t h[4] = {0, 0, 0, 0x3c00};
   for (int i = 0; i < Channels; ++i) std::memcpy(&h[i], texel + 2 * i, 2);
 #if defined(OITREF_HAVE_F16C)

@@ -28,11 +28,16 @@ inline float decodeHalfInline(uint16_t bits) {
 #endif
 }
 
-// Four consecutive halves (an RGBA16F texel) into four floats: one conversion for the four, the
-// same per-element rule as decodeHalfInline (VCVTPH2PS, exact for every half).
+#if defined(OITREF_HAVE_F16C)
+// Four consecutive halves (an RGBA16F texel) as four floats: one conversion for the four, the same
+// per-element rule as decodeHalfInline (VCVTPH2PS, exact for every half).
+inline __m128 decodeHalf4Vector(const uint8_t* texel) {
+  return _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(texel)));  // 8 bytes, unaligned
+}
+#endif
 inline void decodeHalf4Inline(const uint8_t* texel, float* out) {
 #if defined(OITREF_HAVE_F16C)
-  const __m128 f = _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(texel)));  // 8 bytes, unaligned
+  const __m128 f = decodeHalf4Vector(texel);
   std::memcpy(out, &f, 16);
 #else
   for (int c = 0; c < 4; ++c) {
