@@ -71,7 +71,16 @@ class Image {
     }
   }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
-  void store(int x, int y, const glm::vec4& value, const Profile& profile);
+  // fp32 layouts store the bits as they are (encodeTexel's rule), inline: the per-fragment
+  // read-modify-write methods (MLAB, k-buffer, hybrid) store a depth or colour per fragment.
+  void store(int x, int y, const glm::vec4& value, const Profile& profile) {
+    switch (inlineLayout_) {
+      case InlineLayout::Float32x4: std::memcpy(texel(x, y), &value, 16); return;
+      case InlineLayout::Float32x2: std::memcpy(texel(x, y), &value, 8); return;
+      case InlineLayout::Float32x1: std::memcpy(texel(x, y), &value, 4); return;
+      default: storeEncoded(texel(x, y), value, profile);
+    }
+  }
   // store(xs[i], y, values[i], profile) for i < n: the floating-point environment set once.
   void storeRow(int y, const int* xs, int n, const glm::vec4* values, const Profile& profile);
   // glClearBuffer: every texel gets the converted clear value.
@@ -80,6 +89,7 @@ class Image {
   bool sameBits(const Image& other) const;
 
  private:
+  void storeEncoded(uint8_t* texel, const glm::vec4& value, const Profile& profile);
   Format format_{};
   int width_ = 0, height_ = 0;
   size_t texelBytes_ = 0;

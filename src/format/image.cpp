@@ -34,9 +34,9 @@ Image::Image(Format format, int width, int height) : format_(format), width_(wid
   bytes_.assign(imageBytes(format, width, height), 0);
 }
 
-void Image::store(int x, int y, const glm::vec4& value, const Profile& profile) {
+void Image::storeEncoded(uint8_t* texel, const glm::vec4& value, const Profile& profile) {
   const DefaultFloatingPoint fp;
-  encodeTexel(format_, value, profile, texel(x, y));
+  encodeTexel(format_, value, profile, texel);
 }
 
 void Image::storeRow(int y, const int* xs, int n, const glm::vec4* values, const Profile& profile) {
