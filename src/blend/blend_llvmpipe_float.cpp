@@ -411,11 +411,9 @@ struct PixelRun {
 #if defined(OITREF_HAVE_F16C)
       values = (v8f)_mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(t)));
 #else
-      for (int l = 0; l < 8; ++l) {
-        uint16_t h;
-        std::memcpy(&h, t + 2 * l, 2);
-        values[l] = decodeHalfInline(h);
-      }
+      float f[8];
+      decodeHalvesInline(t, 8, f);
+      std::memcpy(&values, f, sizeof values);
 #endif
     } else {
       std::memcpy(&values, t, sizeof values);

@@ -35,16 +35,20 @@ inline __m128 decodeHalf4Vector(const uint8_t* texel) {
   return _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(texel)));  // 8 bytes, unaligned
 }
 #endif
+// n consecutive halves into floats, one decodeHalfInline each (the portable build's row path).
+inline void decodeHalvesInline(const uint8_t* halves, int n, float* out) {
+  for (int i = 0; i < n; ++i) {
+    uint16_t bits;
+    std::memcpy(&bits, halves + 2 * i, 2);
+    out[i] = decodeHalfInline(bits);
+  }
+}
 inline void decodeHalf4Inline(const uint8_t* texel, float* out) {
 #if defined(OITREF_HAVE_F16C)
   const __m128 f = decodeHalf4Vector(texel);
   std::memcpy(out, &f, 16);
 #else
-  for (int c = 0; c < 4; ++c) {
-    uint16_t bits;
-    std::memcpy(&bits, texel + 2 * c, 2);
-    out[c] = decodeHalfInline(bits);
-  }
+  decodeHalvesInline(texel, 4, out);
 #endif
 }
 
