@@ -239,18 +239,19 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
   int i = 0;
   if (count == 4) {
     typedef float v4f __attribute__((vector_size(16)));
-    auto row = [&](int j) {
-      v4f r;
-      std::memcpy(&r, b + size_t(j) * 4, sizeof r);
-      return r;
-    };
-    for (; i + 8 <= n; i += 8) {
+    // Eight fragments: rows[4j + k] their moments, depths[j], results into out[j], fell[j].
+    auto eight = [&](const float* rows, const float* depths, float* out, bool* fell) {
+      auto row = [&](int j) {
+        v4f r;
+        std::memcpy(&r, rows + size_t(j) * 4, sizeof r);
+        return r;
+      };
       // Eight fragments' four moments turned into four vectors of eight lanes in registers (an
       // 8×4 transpose: pairs of rows, then the 4×4 transposes of both halves at once).
-      const v8f a0 = __builtin_shufflevector(row(i), row(i + 4), 0, 1, 2, 3, 4, 5, 6, 7);
-      const v8f a1 = __builtin_shufflevector(row(i + 1), row(i + 5), 0, 1, 2, 3, 4, 5, 6, 7);
-      const v8f a2 = __builtin_shufflevector(row(i + 2), row(i + 6), 0, 1, 2, 3, 4, 5, 6, 7);
-      const v8f a3 = __builtin_shufflevector(row(i + 3), row(i + 7), 0, 1, 2, 3, 4, 5, 6, 7);
+      const v8f a0 = __builtin_shufflevector(row(0), row(4), 0, 1, 2, 3, 4, 5, 6, 7);
+      const v8f a1 = __builtin_shufflevector(row(1), row(5), 0, 1, 2, 3, 4, 5, 6, 7);
+      const v8f a2 = __builtin_shufflevector(row(2), row(6), 0, 1, 2, 3, 4, 5, 6, 7);
+      const v8f a3 = __builtin_shufflevector(row(3), row(7), 0, 1, 2, 3, 4, 5, 6, 7);
       const v8f t0 = __builtin_shufflevector(a0, a1, 0, 8, 1, 9, 4, 12, 5, 13);
       const v8f t1 = __builtin_shufflevector(a0, a1, 2, 10, 3, 11, 6, 14, 7, 15);
       const v8f t2 = __builtin_shufflevector(a2, a3, 0, 8, 1, 9, 4, 12, 5, 13);
@@ -261,13 +262,28 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
                              __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15)};
       v8f m[4], zl;
       for (int k = 0; k < 4; ++k) m[k] = biasedMoment(column[k], bias, biasVector[k]);
-      std::memcpy(&zl, z + i, sizeof zl);
+      std::memcpy(&zl, depths, sizeof zl);
       v8i ok;
       const v8f a = fourPowerMomentAbsorbance(m, zl, overestimation, ok);
       const v8i use = ok & finiteF(a);
       const v8f result = selectF(use, a, splatF<v8f>(overestimation));
-      std::memcpy(absorbance + i, &result, sizeof result);
-      for (int l = 0; l < 8; ++l) fellBack[i + l] = use[l] == 0;
+      std::memcpy(out, &result, sizeof result);
+      for (int l = 0; l < 8; ++l) fell[l] = use[l] == 0;
+    };
+    for (; i + 8 <= n; i += 8) eight(b + size_t(i) * 4, z + i, absorbance + i, fellBack + i);
+    if (i < n) {
+      // The last one to seven in lanes too, the lanes beyond them repeating the last fragment
+      // (each lane's operations are its own: the same bits as one fragment alone).
+      float rows[32], depths[8], out[8];
+      bool fell[8];
+      for (int l = 0; l < 8; ++l) {
+        const int j = std::min(i + l, n - 1);
+        std::memcpy(rows + 4 * l, b + size_t(j) * 4, 4 * sizeof(float));
+        depths[l] = z[j];
+      }
+      eight(rows, depths, out, fell);
+      for (int l = 0; i + l < n; ++l) absorbance[i + l] = out[l], fellBack[i + l] = fell[l];
+      i = n;
     }
   }
   if (count != 4) {
