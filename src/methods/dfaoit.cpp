@@ -19,7 +19,7 @@
 namespace oitref::methods {
 namespace {
 
-constexpr float kEmpty = 2.0f;  // a near-depth slot's clear value: behind every window depth
+constexpr float kEmptySlot = 2.0f;  // a near-depth slot's clear value: behind every window depth
 
 class Dfaoit final : public Method {
  public:
@@ -47,7 +47,7 @@ class Dfaoit final : public Method {
     Image& accum = t.color("accum");
     Image& premult = t.color("premult");
     Image& count = t.color("count");
-    for (int i = 0; i < 2; ++i) depth[i]->clear(glm::vec4(kEmpty), profile), color[i]->clear(glm::vec4(0.0f), profile);
+    for (int i = 0; i < 2; ++i) depth[i]->clear(glm::vec4(kEmptySlot), profile), color[i]->clear(glm::vec4(0.0f), profile);
     accum.clear(glm::vec4(0.0f), profile);
     premult.clear({0, 0, 0, 1}, profile);
     count.clear(glm::vec4(0.0f), profile);

@@ -18,7 +18,7 @@
 namespace oitref::methods {
 namespace {
 
-constexpr float kEmpty = 2.0f;  // a node depth's clear value: behind every window depth
+constexpr float kEmptyNode = 2.0f;  // a node depth's clear value: behind every window depth
 
 class LayeredNodes final : public Method {
  public:
@@ -46,7 +46,7 @@ class LayeredNodes final : public Method {
     for (int i = 0; i < k; ++i) {
       depth.push_back(&t.color("node_depth_" + std::to_string(i)));
       color.push_back(&t.color("node_color_" + std::to_string(i)));
-      depth.back()->clear(glm::vec4(kEmpty), profile);
+      depth.back()->clear(glm::vec4(kEmptyNode), profile);
       color.back()->clear({0, 0, 0, 1}, profile);
     }
     Framebuffer none;
@@ -56,7 +56,7 @@ class LayeredNodes final : public Method {
                           const glm::vec4 node(glm::vec3(c) * c.a, 1.0f - c.a);
                           int place = 0;
                           while (place < k && depth[size_t(place)]->fetch(in.x, in.y).r <= in.depth) ++place;
-                          const bool full = depth[size_t(k - 1)]->fetch(in.x, in.y).r != kEmpty;
+                          const bool full = depth[size_t(k - 1)]->fetch(in.x, in.y).r != kEmptyNode;
                           if (place == k) {  // behind every node of a full list
                             if (!merge) return;  // k-buffer: dropped
                             const glm::vec4 last = color[size_t(k - 1)]->fetch(in.x, in.y);
@@ -80,7 +80,7 @@ class LayeredNodes final : public Method {
     run.compositeOntoBackgrounds(t, "composite", [&](const FragmentInput& in, const glm::vec3 c0[2], glm::vec3 out[2]) {
       glm::vec3 sum(0.0f);
       float transmittance = 1.0f;
-      for (int i = 0; i < k && depth[size_t(i)]->fetch(in.x, in.y).r != kEmpty; ++i) {
+      for (int i = 0; i < k && depth[size_t(i)]->fetch(in.x, in.y).r != kEmptyNode; ++i) {
         const glm::vec4 n = color[size_t(i)]->fetch(in.x, in.y);
         sum += glm::vec3(n) * transmittance;
         transmittance *= n.a;
