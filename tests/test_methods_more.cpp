@@ -430,3 +430,47 @@ TEST_CASE("meshkin3: Vallius's listing 4.1 by hand and in closed form", "[method
   CHECK(compared == 64 * 48);
   CHECK(nan < 200);
 }
+
+TEST_CASE("dualpeel: outputs=changing leaves every attachment as the sample's shader (outputs=all) does",
+          "[methods][dualpeel]") {
+  // The default leaves out the writes that MAX ignores and copies the front target instead of
+  // passing it through (dualpeel.cpp, PeelingPassWrites). The oracle is the sample's shader,
+  // which writes every output of every fragment: every attachment must have the same bits, for
+  // every colour format and profile, on scenes with ties at the front and the back, α = 0 texels,
+  // colour channels of −0, and more layers than a pass can peel.
+  Scene ties = layerScene(12, {0.2f, 0.3f, 0.4f});
+  // The farthest layer first, so that the nearer layers' writes to the back target follow its own.
+  ties.objects = {quad({0, 0, -1.5f}, 10, {0.3f, -0.0f, 0.9f, 0.75f}), quad({0, 0, 0}, 10, {1, 0, 0, 0.5f}),
+                  quad({0, 0, 0}, 10, {0, 0, 1, 0.5f}), quad({0, 0, -0.5f}, 10, {-0.0f, 0.5f, -0.0f, 0.25f}),
+                  quad({0, 0, -1}, 10, {0.6f, 0.2f, -0.0f, 0.5f}), quad({0, 0, -1}, 10, {0.2f, 0.4f, 0.1f, 0.5f})};
+  Scene deep = layerScene(24, {0.1f, 0.1f, 0.1f});
+  deep.objects.clear();
+  for (int i = 0; i < 40; ++i)  // 40 overlapping layers, fewer than 64 passes can peel
+    deep.objects.push_back(quad({0.02f * float(i % 5), 0.0f, -0.05f * float(i)}, 8.0f - 0.1f * float(i),
+                                {0.1f * float(i % 10), 1.0f - 0.02f * float(i), 0.5f, 0.1f + 0.02f * float(i)}));
+  const std::pair<const char*, const Scene*> scenes[] = {{"reference", &reference().scene}, {"ties", &ties}, {"deep", &deep}};
+  Renderer renderer(RendererOptions{2, 16});
+  int compared = 0;
+  for (const auto& [name, scene] : scenes) {
+    const SceneGeometry g = buildSceneGeometry(*scene);
+    for (const Profile& profile : {exactProfile(), llvmpipeProfile(), nvidiaProfile()})
+      for (const char* color : {"rgba8", "rgba16f", "rgba32f"}) {
+        auto frame = [&](const char* outputs) {
+          return makeMethod("dualpeel", {{"color", color}, {"outputs", outputs}})
+              ->render(FrameContext{*scene, g, scene->width, scene->height, profile, renderer});
+        };
+        const FrameResult changing = frame("changing"), all = frame("all");
+        INFO(name << " " << profile.describe() << " color=" << color);
+        REQUIRE(changing.dump.size() == all.dump.size());
+        for (size_t i = 0; i < all.dump.size(); ++i) {
+          INFO(all.dump[i].first);
+          CHECK(changing.dump[i].second.sameBits(all.dump[i].second));
+        }
+        CHECK(changing.final8.sameBits(all.final8));
+        CHECK(changing.finalFloat.sameBits(all.finalFloat));
+        CHECK(changing.facts == all.facts);
+        ++compared;
+      }
+  }
+  CHECK(compared == 27);
+}

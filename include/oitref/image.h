@@ -86,6 +86,9 @@ class Image {
   // glClearBuffer: every texel gets the converted clear value.
   void clear(const glm::vec4& value, const Profile& profile);
 
+  // Every texel's bits from `source`, which has this image's format and size (glCopyImageSubData).
+  void copyTexels(const Image& source);
+
   bool sameBits(const Image& other) const;
 
  private:

@@ -157,6 +157,12 @@ class FragmentBatchOutput {
     color_[target][i] = color;
     state_[i] = uint16_t(state_[i] | 1u << target);
   }
+  // write(i, target, color) where `written`, else nothing, without a branch (the colour's slot
+  // is filled either way; an unwritten slot is never read).
+  void writeIf(int i, int target, const glm::vec4& color, bool written) {
+    color_[target][i] = color;
+    state_[i] = uint16_t(state_[i] | unsigned(written) << target);
+  }
   void discard(int i) { state_[i] = uint16_t(state_[i] | kDiscarded); }
   void setDepth(int i, float windowZ) {
     depth_[i] = windowZ;

@@ -53,6 +53,12 @@ void Image::clear(const glm::vec4& value, const Profile& profile) {
     std::memcpy(bytes_.data() + filled, bytes_.data(), std::min(filled, bytes_.size() - filled));
 }
 
+void Image::copyTexels(const Image& source) {
+  if (!(format_ == source.format_) || width_ != source.width_ || height_ != source.height_)
+    throw std::logic_error("Image::copyTexels: the images differ in format or size");
+  std::memcpy(bytes_.data(), source.bytes_.data(), bytes_.size());
+}
+
 bool Image::sameBits(const Image& other) const {
   return format_ == other.format_ && width_ == other.width_ && height_ == other.height_ && bytes_ == other.bytes_;
 }

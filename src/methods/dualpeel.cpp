@@ -13,6 +13,9 @@
 //          peeled; a pass whose back pass draws nothing ends the loop (the sample's occlusion
 //          query), or `passes` is reached;
 //   final: C = front.rgb + C_background·(1 − front.a).
+// The sample's shader writes every output of every fragment and relies on MAX to ignore the
+// values that change nothing. `outputs=changing` (the default) leaves those writes out, with the
+// same bits (peelingPassWrites; the test "dualpeel: outputs=changing …" holds it to outputs=all).
 // Two fragments at exactly the same depth collide under MAX: at the front, the component-wise
 // maximum of their two accumulations wins — a colour neither order would give; at the back, the
 // maximum of the two colours. This is the method's documented weakness, and oitref keeps it.
@@ -25,29 +28,47 @@ namespace {
 
 BlendState maxBlend() { return detail::states::kMax; }
 
+// Which of the sample's writes a peeling pass keeps. All of them (outputs=all), or only those
+// that can change a target (outputs=changing), which leaves every target with the same bits:
+//  - range ← (−1, −1) for a fragment outside the unpeeled range or on its bounds: the range target
+//    only ever holds −1 (its clear) and (−z, z) with z ∈ [0, 1] (MAX results, never NaN, already
+//    flushed where the profile flushes), and MAX of −1 with any of them is that value;
+//  - front ← front so far (the pass-through): instead, the pass starts from a copy of the previous
+//    front target, not a clear. Both leave max(previous front, this pass's under-blended layers)
+//    in every pixel: the pixels with fragments are the same in every pass (the same draws, the
+//    same opaque depth, no depth writes), and on these values (no NaN, no −0: front channels are
+//    sums from +0 of non-negative terms) MAX is exact and free of order, flushing and encoding
+//    being monotone;
+//  - back ← 0: left out on UNORM targets only, where MAX with code 0 is the identity. Float
+//    targets keep it: were a colour channel of −0 ever written there, whether it stays −0 would
+//    depend on the order of the writes (the test's −0 colours reach the shader as +0, so this
+//    case could not be exercised, and it is not relied on).
+struct PeelingPassWrites {
+  bool passThrough = true;  // range (−1, −1) and front so far
+  bool backZero = true;
+};
+
 // A peeling pass's shader for one fragment at window depth z with colour c: the pixel's unpeeled
 // range (−nearest, farthest) and front layer so far from the previous pass. Targets: 0 the next
-// range, 1 the front layer (passed through under MAX, or this fragment under it when it is the
-// nearest), 2 this fragment when it is the farthest.
-void peel(float z, const glm::vec4& c, const glm::vec4& range, const glm::vec4& frontSoFar, FragmentBatchOutput& out,
-          int i) {
+// range, 1 the front layer (this fragment under it when it is the nearest), 2 this fragment when
+// it is the farthest.
+void peel(float z, const glm::vec4& c, const glm::vec4& range, const glm::vec4& frontSoFar, PeelingPassWrites writes,
+          FragmentBatchOutput& out, int i) {
   const float nearest = -range.x, farthest = range.y;
-  out.write(i, 1, frontSoFar);  // pass-through under MAX
-  out.write(i, 2, glm::vec4(0.0f));
-  if (z < nearest || z > farthest) return out.write(i, 0, glm::vec4(-1.0f));
-  if (z > nearest && z < farthest) return out.write(i, 0, glm::vec4(-z, z, 0.0f, 0.0f));
-  out.write(i, 0, glm::vec4(-1.0f));
-  if (z == nearest) {
-    const float multiplier = 1.0f - frontSoFar.a;
-    out.write(i, 1, glm::vec4(glm::vec3(frontSoFar) + glm::vec3(c) * c.a * multiplier, 1.0f - multiplier * (1.0f - c.a)));
-  } else {
-    out.write(i, 2, c);
-  }
+  // Without branches: which case a fragment falls in follows its layers, which no predictor does.
+  const bool inside = z > nearest && z < farthest;
+  const bool isNearest = z == nearest, isFarthest = z == farthest && !isNearest;
+  const float multiplier = 1.0f - frontSoFar.a;
+  const glm::vec4 under(glm::vec3(frontSoFar) + glm::vec3(c) * c.a * multiplier, 1.0f - multiplier * (1.0f - c.a));
+  out.writeIf(i, 0, inside ? glm::vec4(-z, z, 0.0f, 0.0f) : glm::vec4(-1.0f), inside || writes.passThrough);
+  out.writeIf(i, 1, isNearest ? under : frontSoFar, isNearest || writes.passThrough);
+  out.writeIf(i, 2, isFarthest ? c : glm::vec4(0.0f), isFarthest || writes.backZero);
 }
 
 class Dualpeel final : public Method {
  public:
-  explicit Dualpeel(const MethodOptions& o) : passes_(int(o.number("passes"))), colorFormat_(o.text("color")) {}
+  explicit Dualpeel(const MethodOptions& o)
+      : passes_(int(o.number("passes"))), colorFormat_(o.text("color")), allOutputs_(o.text("outputs") == "all") {}
   const MethodInfo& info() const override { return dualpeelInfo(); }
   std::vector<AttachmentDecl> attachments() const override {
     std::vector<AttachmentDecl> a = opaqueAttachments();
@@ -83,6 +104,9 @@ class Dualpeel final : public Method {
     PipelineState over;
     over.profile = profile;
     over.blend[0] = over.blend[1] = overBlend();
+    PeelingPassWrites writes;
+    writes.passThrough = allOutputs_;
+    writes.backZero = allOutputs_ || !back.format().isUnorm();
     int pass = 0, current = 0;
     bool exhausted = false;
     while (pass < passes_) {
@@ -92,7 +116,8 @@ class Dualpeel final : public Method {
       Image& depthNext = *depth[1 - current];
       Image& frontNext = *front[1 - current];
       depthNext.clear(glm::vec4(-1.0f), profile);
-      frontNext.clear(glm::vec4(0.0f), profile);
+      if (writes.passThrough) frontNext.clear(glm::vec4(0.0f), profile);
+      else frontNext.copyTexels(frontPrev);
       back.clear(glm::vec4(0.0f), profile);
       Framebuffer fb;
       fb.color[0] = &depthNext;
@@ -105,7 +130,7 @@ class Dualpeel final : public Method {
                                  glm::vec4 ranges[kShaderBatch], fronts[kShaderBatch];
                                  depthPrev.fetchRow(in.y, in.x, in.count, ranges);
                                  frontPrev.fetchRow(in.y, in.x, in.count, fronts);
-                                 for (int i = 0; i < in.count; ++i) peel(in.depth[i], colors[i], ranges[i], fronts[i], out, i);
+                                 for (int i = 0; i < in.count; ++i) peel(in.depth[i], colors[i], ranges[i], fronts[i], writes, out, i);
                                });
       // The back layer OVER the background; the draw count is the sample's occlusion query.
       run.fullscreenPass("blend back " + std::to_string(pass), onBackground, over,
@@ -150,6 +175,7 @@ class Dualpeel final : public Method {
  private:
   int passes_;
   std::string colorFormat_;
+  bool allOutputs_;
 };
 
 }  // namespace
@@ -159,7 +185,11 @@ const MethodInfo& dualpeelInfo() {
       "dualpeel",
       "dual depth peeling (Bavoil–Myers 2008): nearest and farthest layer per pass, MAX blending",
       {{"passes", "64", "peeling passes at most (⌈layers/2⌉ + 1 are needed)", {}, OptionNumber::integer(1, 1024)},
-       {"color", "rgba8", "format of the front and back colour targets (as peel's layers)", {"rgba8", "rgba16f", "rgba32f"}}}};
+       {"color", "rgba8", "format of the front and back colour targets (as peel's layers)", {"rgba8", "rgba16f", "rgba32f"}},
+       {"outputs", "changing",
+        "changing: a peeling pass writes only what can change a target (the previous front copied, not passed through); "
+        "all: every output of the sample's shader. The same bits",
+        {"changing", "all"}}}};
   return info;
 }
 std::unique_ptr<Method> makeDualpeel(const MethodOptions& o) {
