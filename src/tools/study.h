@@ -54,7 +54,7 @@ struct StudyOptions {
   std::vector<std::string> scenes;
   std::string outDir;
   int width = 0, height = 0;  // 0: each scene's own
-  int runs = 5;               // timed runs after one warm-up
+  int runs = 5;               // timed runs after one warm-up (study.cpp: the warm-up of a slow variant counts)
   double heatmapScale = 0.25;
   Profile profile = exactProfile();
   uint64_t memoryLimit = UINT64_MAX;
