@@ -5,6 +5,8 @@
 //  * the span path (row spans, batched blending) against the per-fragment path, its oracle.
 #include <catch2/catch.hpp>
 
+#include <cstring>
+
 #include "method_fixture.h"
 #include "oitref/method.h"
 #include "tools/suite.h"
@@ -38,6 +40,11 @@ TEST_CASE("methods: a pooled frame gives the bits of a fresh one", "[methods]") 
         CHECK(pool.size() < kept);
       }
       CHECK(tools::frameHash(pooled) == tools::frameHash(fresh));
+      // The A-buffer's fragment lists too, stored into the pool's kept buffer (the other scene's).
+      CHECK(pooled.fragmentStart == fresh.fragmentStart);
+      REQUIRE(pooled.fragments.size() == fresh.fragments.size());
+      CHECK(std::memcmp(pooled.fragments.data(), fresh.fragments.data(),
+                        fresh.fragments.size() * sizeof(TransparentFragment)) == 0);
       // Balanced: giving a frame back leaves the pool as it was, so repeated frames do not grow it.
       pool.recycle(FrameResult(pooled));
       CHECK(pool.size() == kept);

@@ -135,7 +135,8 @@ class Abuffer final : public Method {
                                " MiB)" + deepestText + " Raise it with --set max_fragments=N or render smaller.");
     std::vector<uint64_t> start(pixels + 1, 0);
     for (size_t p = 0; p < pixels; ++p) start[p + 1] = start[p] + count[p];
-    std::vector<StoredFragment> fragments(total);
+    std::vector<StoredFragment> fragments =
+        context.pool ? context.pool->takeFragments(total) : std::vector<StoredFragment>(total);
     std::vector<uint32_t> filled(pixels, 0);
     run.transparentBatchPass("store", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
       const size_t row = size_t(in.y) * w;

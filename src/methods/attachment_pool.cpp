@@ -48,10 +48,22 @@ void AttachmentPool::give(DepthBuffer&& depth) {
   if (depth.allocated()) giveKind(depths_, lentDepths_, std::move(depth));  // not one moved from
 }
 
+std::vector<TransparentFragment> AttachmentPool::takeFragments(size_t n) {
+  ++lentFragments_;
+  std::vector<TransparentFragment> v = std::move(fragments_);
+  fragments_ = {};
+  v.resize(n);  // shrinking touches nothing; growing value-initialises only the new part
+  return v;
+}
+
 void AttachmentPool::recycle(FrameResult&& frame) {
   give(std::move(frame.final8));
   give(std::move(frame.finalFloat));
   for (auto& [name, image] : frame.dump) give(std::move(image));
+  if (lentFragments_ > 0 && frame.fragments.capacity() > 0) {  // as give(): only what stands in for a loan
+    --lentFragments_;
+    if (frame.fragments.capacity() > fragments_.capacity()) fragments_ = std::move(frame.fragments);
+  }
   frame = FrameResult{};
 }
 
