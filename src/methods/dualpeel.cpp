@@ -15,7 +15,7 @@
 //   final: C = front.rgb + C_background·(1 − front.a).
 // The sample's shader writes every output of every fragment and relies on MAX to ignore the
 // values that change nothing. `outputs=changing` (the default) leaves those writes out, with the
-// same bits (peelingPassWrites; the test "dualpeel: outputs=changing …" holds it to outputs=all).
+// same bits (PeelingPassWrites; the test "dualpeel: outputs=changing …" holds it to outputs=all).
 // Two fragments at exactly the same depth collide under MAX: at the front, the component-wise
 // maximum of their two accumulations wins — a colour neither order would give; at the back, the
 // maximum of the two colours. This is the method's documented weakness, and oitref keeps it.
@@ -40,9 +40,9 @@ BlendState maxBlend() { return detail::states::kMax; }
 //    sums from +0 of non-negative terms) MAX is exact and free of order, flushing and encoding
 //    being monotone;
 //  - back ← 0: left out on UNORM targets only, where MAX with code 0 is the identity. Float
-//    targets keep it: were a colour channel of −0 ever written there, whether it stays −0 would
-//    depend on the order of the writes (the test's −0 colours reach the shader as +0, so this
-//    case could not be exercised, and it is not relied on).
+//    targets keep it, to be safe: were a colour channel of −0 written there, its sign would
+//    depend on the order of the writes. (The test's −0 colours did not reach the back target
+//    with their sign: dropping the write there too passed it, so nothing shows this case.)
 struct PeelingPassWrites {
   bool passThrough = true;  // range (−1, −1) and front so far
   bool backZero = true;
