@@ -451,7 +451,9 @@ TEST_CASE("dualpeel: outputs=changing leaves every attachment as the sample's sh
   const std::pair<const char*, const Scene*> scenes[] = {{"reference", &reference().scene}, {"ties", &ties}, {"deep", &deep}};
   Renderer renderer(RendererOptions{2, 16});
   int compared = 0;
-  for (const auto& [name, scene] : scenes) {
+  for (const auto& entry : scenes) {  // not a structured binding: clang 14's lambdas cannot capture one
+    const char* name = entry.first;
+    const Scene* scene = entry.second;
     const SceneGeometry g = buildSceneGeometry(*scene);
     for (const Profile& profile : {exactProfile(), llvmpipeProfile(), nvidiaProfile()})
       for (const char* color : {"rgba8", "rgba16f", "rgba32f"}) {
