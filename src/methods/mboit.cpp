@@ -106,11 +106,14 @@ class Mboit final : public Method {
     reveal.clear(glm::vec4(1.0f), profile);
     const Camera& cam = context.scene.camera;
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
-    const bool logWarp = logWarp_, unitDepth = unitDepth_;
-    auto warp = [&, logWarp, unitDepth](const FragmentInput& in) {
-      if (unitDepth) return in.depth;
-      if (!logWarp) return 2.0f * in.depth - 1.0f;
-      return float(2.0 * detLog(double(in.viewDepth) / double(cam.nearPlane)) / logRange - 1.0);
+    const bool logWarp = logWarp_;
+    // The warped depth of fragment i of a batch: linear 2·d − 1, unit d (× 1 and − 0 change no
+    // bits), or the log of the view depth.
+    const float warpScale = unitDepth_ ? 1.0f : 2.0f, warpOffset = unitDepth_ ? 0.0f : 1.0f;
+    auto linearWarp = [warpScale, warpOffset](const FragmentBatch& in, int i) { return warpScale * in.depth[i] - warpOffset; };
+    auto warp = [&, logWarp](const FragmentBatch& in, int i) {
+      if (!logWarp) return linearWarp(in, i);
+      return float(2.0 * detLog(double(in.viewDepth[i]) / double(cam.nearPlane)) / logRange - 1.0);
     };
     // A = −ln(1 − α), α clamped below 1; the logarithms of a batch together (detLogBatch: the
     // same bits as one at a time).
@@ -131,7 +134,25 @@ class Mboit final : public Method {
 
     Framebuffer momentFb;
     momentFb.depth = &t.depth("depth");
-    if (!quantised_) {
+    // The usual set — four power moments in fp32, the depth warped linearly or not at all —
+    // runs passes of its own, decided here once: no per-fragment branch on the configuration.
+    const bool usualSet = !quantised_ && reals == 4 && !set.trigonometric && !logWarp_;
+    if (usualSet) {
+      momentFb.color[0] = &b0Image;
+      momentFb.color[1] = momentImages[0];
+      run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
+                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
+                                 const int count = in.count;
+                                 float absorbance[kShaderBatch];
+                                 absorbancesOf(colors, count, absorbance);
+                                 for (int i = 0; i < count; ++i) {
+                                   const float a = absorbance[i];
+                                   const bool adds = !(a < 1e-7f);  // nearly clear: adds nothing measurable
+                                   out.writeIf(i, 0, glm::vec4(a), adds);
+                                   out.writeIf(i, 1, PowerMoments(linearWarp(in, i)).firstFour() * a, adds);
+                                 }
+                               });
+    } else if (!quantised_) {
       momentFb.color[0] = &b0Image;
       momentFb.color[1] = momentImages[0];
       momentFb.color[2] = momentImages[1];
@@ -145,11 +166,11 @@ class Mboit final : public Method {
                                    if (a < 1e-7f) continue;  // nearly clear: adds nothing measurable
                                    if (reals == 4 && !set.trigonometric) {  // the usual set, in registers
                                      out.write(i, 0, glm::vec4(a));
-                                     out.write(i, 1, PowerMoments(warp(in[i])).firstFour() * a);
+                                     out.write(i, 1, PowerMoments(warp(in, i)).firstFour() * a);
                                      continue;
                                    }
                                    float m[8] = {};
-                                   momentsOf(set, warp(in[i]), zone, m);
+                                   momentsOf(set, warp(in, i), zone, m);
                                    out.write(i, 0, glm::vec4(a));
                                    out.write(i, 1, glm::vec4(m[0], m[1], m[2], m[3]) * a);
                                    if (reals > 4) out.write(i, 2, glm::vec4(m[4], m[5], m[6], m[7]) * a);
@@ -177,7 +198,7 @@ class Mboit final : public Method {
                                    gatherMoments(lo[i], hi[i], q);
                                    offsetQuantised(set, q, -1.0f);
                                    for (int k = 0; k < reals; ++k) q[k] *= b0;
-                                   momentsOf(set, warp(in[i]), zone, m);
+                                   momentsOf(set, warp(in, i), zone, m);
                                    quantiseMoments(set, m, mq);
                                    b0 += a;
                                    for (int k = 0; k < reals; ++k) q[k] = (q[k] + mq[k] * a) / b0;
@@ -199,46 +220,15 @@ class Mboit final : public Method {
     const float* biasVector = set.trigonometric ? nullptr : unitDepth_ ? kThesisBiasVector : powerBiasVector(set.count, quantised);
     const bool saturate = saturate_;
     std::atomic<uint64_t> fallbacks{0};  // a sum: the same for any order of the fragments
-    // The weight e^(−b0·absorbance), the exponentials of a batch together (detExpFloatBatch:
-    // float(detExp) for each, its series' divisions only where they can change the float).
-    accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
-      const int count = in.count;
+    // The weight e^(−b0·absorbance) of each fragment from the absorbances of the n that
+    // reconstruct (used[j] their places in the batch), the others (clear) weighted 1; the
+    // exponentials of a batch together (detExpFloatBatch: float(detExp) for each, its series'
+    // divisions only where they can change the float).
+    auto weightsFrom = [&fallbacks, saturate](int count, const bool* clear, int n, const int* used, const float* b0s,
+                                              const float* absorbance, const bool* fellBack, float* w) {
       double exponent[kShaderBatch];
       float weight[kShaderBatch];
-      bool clear[kShaderBatch];
-      // The fragments that reconstruct (not clear), their normalised moments and depths side by
-      // side, so that powerMomentAbsorbanceBatch can run them in lanes.
-      int used[kShaderBatch], n = 0;
-      float moments[kShaderBatch * 8], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
-      bool fellBack[kShaderBatch];
-      // The batch's texels a row at a time (Image::fetchRow: the layout decided once).
-      glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch], hi[kShaderBatch];
-      b0Image.fetchRow(in.y, in.x, count, b0Texels);
-      momentImages[0]->fetchRow(in.y, in.x, count, lo);
-      if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
-      for (int i = 0; i < count; ++i) {
-        const float b0 = b0Texels[i].r;
-        clear[i] = b0 < 0.00100050033f;
-        exponent[i] = 0.0;
-        if (clear[i]) continue;
-        float* b = moments + size_t(n) * size_t(reals);
-        if (quantised) {
-          float stored[8] = {};
-          gatherMoments(lo[i], hi[i], stored);
-          dequantiseMoments(set, stored, b);
-        } else if (reals > 4) {
-          for (int k = 0; k < reals; ++k) b[k] = (k < 4 ? lo[i][k] : hi[i][k - 4]) / b0;
-        }
-        depths[n] = warp(in[i]);
-        b0s[n] = b0;
-        used[n++] = i;
-      }
-      // The usual four moments normalised, b_k = m_k / b0, two fragments' in eight lanes.
-      if (!quantised && reals == 4) normaliseFourMoments(lo, used, b0s, n, moments);
-      if (set.trigonometric)
-        trigMomentAbsorbanceBatch(set.count, moments, depths, n, bias, overestimation, zone, absorbance, fellBack);
-      else
-        powerMomentAbsorbanceBatch(set.count, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
+      for (int i = 0; i < count; ++i) exponent[i] = 0.0;
       uint64_t fell = 0;  // one atomic add per batch, not per fragment that fell back
       for (int j = 0; j < n; ++j) {
         fell += fellBack[j];
@@ -250,7 +240,71 @@ class Mboit final : public Method {
         const float wi = weight[i];
         w[i] = clear[i] ? 1.0f : saturate ? std::clamp(wi, 0.0f, 1.0f) : wi;
       }
-    });
+    };
+    // A pixel whose b0 is below this has only nearly clear layers: weight 1.
+    constexpr float kClearB0 = 0.00100050033f;
+    if (usualSet) {
+      // The batch's fragments sorted into those that reconstruct and those that are clear
+      // without a branch per fragment.
+      accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
+        const int count = in.count;
+        glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch];
+        b0Image.fetchRow(in.y, in.x, count, b0Texels);
+        momentImages[0]->fetchRow(in.y, in.x, count, lo);
+        int used[kShaderBatch], n = 0;
+        float moments[kShaderBatch * 4], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
+        bool clear[kShaderBatch], fellBack[kShaderBatch];
+        for (int i = 0; i < count; ++i) {
+          const float b0 = b0Texels[i].r;
+          clear[i] = b0 < kClearB0;
+          depths[n] = linearWarp(in, i);
+          b0s[n] = b0;
+          used[n] = i;
+          n += !clear[i];
+        }
+        normaliseFourMoments(lo, used, b0s, n, moments);
+        powerMomentAbsorbanceBatch(4, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
+        weightsFrom(count, clear, n, used, b0s, absorbance, fellBack, w);
+      });
+    } else {
+      accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
+        const int count = in.count;
+        bool clear[kShaderBatch];
+        // The fragments that reconstruct (not clear), their normalised moments and depths side by
+        // side, so that the absorbance batches can run them in lanes.
+        int used[kShaderBatch], n = 0;
+        float moments[kShaderBatch * 8], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
+        bool fellBack[kShaderBatch];
+        // The batch's texels a row at a time (Image::fetchRow: the layout decided once).
+        glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch], hi[kShaderBatch];
+        b0Image.fetchRow(in.y, in.x, count, b0Texels);
+        momentImages[0]->fetchRow(in.y, in.x, count, lo);
+        if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
+        for (int i = 0; i < count; ++i) {
+          const float b0 = b0Texels[i].r;
+          clear[i] = b0 < kClearB0;
+          if (clear[i]) continue;
+          float* b = moments + size_t(n) * size_t(reals);
+          if (quantised) {
+            float stored[8] = {};
+            gatherMoments(lo[i], hi[i], stored);
+            dequantiseMoments(set, stored, b);
+          } else if (reals > 4) {
+            for (int k = 0; k < reals; ++k) b[k] = (k < 4 ? lo[i][k] : hi[i][k - 4]) / b0;
+          }
+          depths[n] = warp(in, i);
+          b0s[n] = b0;
+          used[n++] = i;
+        }
+        // The four moments in fp32 normalised, b_k = m_k / b0, two fragments' in eight lanes.
+        if (!quantised && reals == 4) normaliseFourMoments(lo, used, b0s, n, moments);
+        if (set.trigonometric)
+          trigMomentAbsorbanceBatch(set.count, moments, depths, n, bias, overestimation, zone, absorbance, fellBack);
+        else
+          powerMomentAbsorbanceBatch(set.count, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
+        weightsFrom(count, clear, n, used, b0s, absorbance, fellBack, w);
+      });
+    }
 
     compositeWeighted(run, t, accum, reveal, clamp_);  // as WBOIT
     t.finish(result, "opaque");
