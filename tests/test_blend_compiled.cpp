@@ -169,3 +169,66 @@ TEST_CASE("blend: both ISA variants of llvmpipe's UNORM8 batch give the general 
   }
   CHECK(compared == 3 * int(std::size(detail::states::kMethodBlendStates)) * 2 * 2 * 9);
 }
+
+// blendRun leaves alone the pixels whose blend keeps their texel's bits (TargetBlender::keptPixels:
+// the composite states with the source (+0, +0, +0, 1)). Against the per-fragment general kernel,
+// which blends every pixel: runs where half the sources are exactly that one, the others near it
+// (−0, an alpha one ulp below 1) or anything, over destinations with −0, NaN, infinities and
+// denormals, in every profile (the `nvidia` profile and the OVER state never skip; the others
+// must skip some pixels, or the test would not reach the skipping).
+TEST_CASE("blend: a run skips exactly the pixels whose bits the composite keeps", "[blend]") {
+  test::BitStream rng(79);
+  const glm::vec4 kept(0.0f, 0.0f, 0.0f, 1.0f);
+  int compared = 0;
+  for (const char* name : {"rgba8", "rg8", "r8", "rgba16", "rgba16f", "r16f", "rgba32f", "rg32f", "r32f"}) {
+    const Format f = parseFormat(name);
+    const int bytes = f.bytesPerTexel();
+    for (const Profile& p : {llvmpipeProfile(), parseProfile("llvmpipe,fma=off"), exactProfile(), parseProfile("exact,unorm=fp32"),
+                             parseProfile("exact,unorm=nvidia"), nvidiaProfile()})
+      for (const BlendState& state : {detail::states::kComposite, detail::states::kPremultipliedOntoBackground, detail::states::kOver})
+        for (bool smallFloatBound : {false, true}) {
+          const detail::TargetBlender run(f, state, glm::vec4(0.5f), p, true, smallFloatBound);
+          const detail::TargetBlender single(f, state, glm::vec4(0.5f), p, false, smallFloatBound);
+          const int n = 200;
+          std::vector<glm::vec4> sources(static_cast<size_t>(n));
+          for (glm::vec4& s : sources) {
+            switch (rng.next() % 6) {
+              case 0: case 1: case 2: s = kept; break;
+              case 3: s = glm::vec4(-0.0f, 0.0f, 0.0f, 1.0f); break;
+              case 4: s = glm::vec4(0.0f, 0.0f, 0.0f, 0.99999994f); break;
+              default:
+                for (int k = 0; k < 4; ++k) s[k] = interesting(rng);
+            }
+          }
+          std::vector<uint8_t> texels(size_t(n * bytes));
+          for (int i = 0; i < n * bytes / 4; ++i) {  // fp32 channels, two fp16 ones or four 8-bit codes
+            const float v = interesting(rng);
+            std::memcpy(&texels[size_t(4 * i)], &v, 4);
+          }
+          for (int i = (n * bytes / 4) * 4; i < n * bytes; ++i) texels[size_t(i)] = uint8_t(rng.next());
+          if (f.encoding() == ChannelEncoding::Half)  // fp16 −0, NaN and denormals in some texels
+            for (int i = 0; i < n * bytes / 2; i += 7) {
+              const uint16_t specials[] = {0x8000, 0x7e00, 0x0001, 0x83ff, 0x7c00, 0x0000};
+              std::memcpy(&texels[size_t(2 * i)], &specials[rng.next() % 6], 2);
+            }
+          std::vector<uint8_t> expected = texels, got = texels;
+          int keptPixels = 0;
+          for (int i = 0; i < n; ++i) {
+            single.blend(sources[size_t(i)], &expected[size_t(i * bytes)]);
+            keptPixels += int(run.keptPixels(&sources[size_t(i)], &texels[size_t(i * bytes)], 1));
+          }
+          run.blendRun(sources.data(), got.data(), n);
+          INFO(name << " " << p.describe() << " " << state.describe() << " small-float bound " << smallFloatBound);
+          for (int i = 0; i < n; ++i)
+            if (std::memcmp(&got[size_t(i * bytes)], &expected[size_t(i * bytes)], size_t(bytes)) != 0)
+              FAIL("pixel " << i << ": run " << texelBitsToString(f, &got[size_t(i * bytes)]) << ", per fragment "
+                            << texelBitsToString(f, &expected[size_t(i * bytes)]));
+          const bool eligible = !(state == detail::states::kOver) && std::string(name) != "rgba16" &&
+                                !(f.isUnorm() ? p.unormBlend == UnormBlend::Nvidia : p.floatBlend == FloatBlend::Nvidia);
+          if (eligible) CHECK(keptPixels > 0);
+          else CHECK(keptPixels == 0);
+          ++compared;
+        }
+  }
+  CHECK(compared == 9 * 6 * 3 * 2);
+}

@@ -180,6 +180,17 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
   const bool integer = profile.unormBlend == UnormBlend::Integer && format.isUnorm();
   const bool nvidia = format.id != FormatId::Minifloat &&
                      (format.isUnorm() ? profile.unormBlend == UnormBlend::Nvidia : profile.floatBlend == FloatBlend::Nvidia);
+  {
+    // keptPixels's case: the composite states on every channel, 8-bit UNORM, fp16 or fp32
+    // channels, and a profile whose arithmetic for them is the plain one or llvmpipe's.
+    const bool compositeState = state.enabled && (state == states::kComposite || state == states::kPremultipliedOntoBackground);
+    const ChannelEncoding e = format.encoding();
+    const bool eligibleFormat = (e == ChannelEncoding::Unorm && !format.isPacked() && format.unormBits(0) == 8) ||
+                                e == ChannelEncoding::Half || e == ChannelEncoding::Float32;
+    const bool nvidiaArithmetic = format.isUnorm() ? profile.unormBlend == UnormBlend::Nvidia : profile.floatBlend == FloatBlend::Nvidia;
+    skipsEmptyPixels_ = allowFastPath && compositeState && mask_ == all && eligibleFormat && !nvidiaArithmetic;
+    floatFlushesDenormals_ = profile.floatBlend == FloatBlend::Llvmpipe && flushDenormals_;
+  }
   if (mask_ == 0) use<maskedOffKernel>();
   else if (state.enabled && nvidia) {
     nvidiaPlan_ = planNvidiaBlend(format, state, constant, mask_, allowFastPath);
@@ -220,6 +231,92 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
         else useFastKernel(format.encoding(), c, methodStateIndex(state));
         break;
       default: use<genericKernel>();
+    }
+  }
+}
+
+namespace {
+
+// keptPixels's tests, one per texel layout, without branches: one runs over a whole run before
+// any of it blends.
+inline bool isEmptyPixel(const glm::vec4& source) {  // (+0, +0, +0, 1) exactly
+  uint32_t s[4];
+  std::memcpy(s, &source[0], sizeof s);
+  return ((s[0] | s[1] | s[2]) == 0u) & (s[3] == 0x3f800000u);
+}
+inline bool halfKept(const uint8_t* texel, int channels) {  // not NaN, not −0 (fp16 denormals are kept)
+  bool kept = true;
+  for (int c = 0; c < channels; ++c) {
+    uint16_t h;
+    std::memcpy(&h, texel + 2 * c, 2);
+    kept &= ((h & 0x7fffu) <= 0x7c00u) & (h != 0x8000u);
+  }
+  return kept;
+}
+inline bool floatKept(const uint8_t* texel, int channels, bool flushes) {  // not NaN, not −0, no flushed denormal
+  bool kept = true;
+  for (int c = 0; c < channels; ++c) {
+    uint32_t f;
+    std::memcpy(&f, texel + 4 * c, 4);
+    const bool denormal = ((f & 0x7f800000u) == 0) & ((f & 0x007fffffu) != 0);
+    kept &= ((f & 0x7fffffffu) <= 0x7f800000u) & (f != 0x80000000u) & !(flushes & denormal);
+  }
+  return kept;
+}
+
+// floatKept for four channels, the four tests side by side.
+inline bool floatKept4(const uint8_t* texel, bool flushes) {
+#if defined(__SSE2__)
+  const __m128i f = _mm_loadu_si128(reinterpret_cast<const __m128i*>(texel));
+  const __m128i magnitude = _mm_and_si128(f, _mm_set1_epi32(0x7fffffff));
+  __m128i bad = _mm_or_si128(_mm_cmpgt_epi32(magnitude, _mm_set1_epi32(0x7f800000)),       // NaN
+                             _mm_cmpeq_epi32(f, _mm_set1_epi32(int32_t(0x80000000u))));  // −0
+  if (flushes) {
+    const __m128i zeroExponent = _mm_cmpeq_epi32(_mm_and_si128(f, _mm_set1_epi32(0x7f800000)), _mm_setzero_si128());
+    const __m128i zeroMantissa = _mm_cmpeq_epi32(_mm_and_si128(f, _mm_set1_epi32(0x007fffff)), _mm_setzero_si128());
+    bad = _mm_or_si128(bad, _mm_andnot_si128(zeroMantissa, zeroExponent));  // a denormal
+  }
+  return _mm_movemask_epi8(bad) == 0;
+#else
+  return floatKept(texel, 4, flushes);
+#endif
+}
+
+}  // namespace
+
+uint64_t TargetBlender::keptPixels(const glm::vec4* sources, const uint8_t* texels, int n) const {
+  uint64_t kept = 0;
+  if (!skipsEmptyPixels_) return kept;
+  const int channels = format_.channels;
+  const size_t bytes = texelBytes_;
+  const bool flushes = floatFlushesDenormals_;
+  const ChannelEncoding encoding = format_.encoding();  // the test for the layout chosen once
+  if (encoding == ChannelEncoding::Half)
+    for (int i = 0; i < n; ++i) kept |= uint64_t(isEmptyPixel(sources[i]) & halfKept(texels + size_t(i) * bytes, channels)) << i;
+  else if (encoding == ChannelEncoding::Float32 && channels == 4)
+    for (int i = 0; i < n; ++i) kept |= uint64_t(isEmptyPixel(sources[i]) & floatKept4(texels + size_t(i) * bytes, flushes)) << i;
+  else if (encoding == ChannelEncoding::Float32)
+    for (int i = 0; i < n; ++i)
+      kept |= uint64_t(isEmptyPixel(sources[i]) & floatKept(texels + size_t(i) * bytes, channels, flushes)) << i;
+  else  // UNORM8: every code
+    for (int i = 0; i < n; ++i) kept |= uint64_t(isEmptyPixel(sources[i])) << i;
+  return kept;
+}
+
+void TargetBlender::blendRunKeeping(const glm::vec4* sources, uint8_t* texels, int n) const {
+  // Up to 64 pixels at a time: which ones keep their bits, then the runs between them through
+  // the run kernel; the kept ones are not touched.
+  for (int start = 0; start < n; start += 64) {
+    const int m = std::min(64, n - start);
+    const glm::vec4* s = sources + start;
+    uint8_t* t = texels + size_t(start) * texelBytes_;
+    const uint64_t all = m == 64 ? ~uint64_t(0) : (uint64_t(1) << m) - 1;
+    for (uint64_t blend = ~keptPixels(s, t, m) & all; blend;) {
+      const int first = __builtin_ctzll(blend);
+      const uint64_t from = blend >> first;  // the run of pixels to blend, from `first` on
+      const int length = ~from ? __builtin_ctzll(~from) : 64 - first;
+      runKernel_(*this, s + first, t + size_t(first) * texelBytes_, length);
+      blend &= first + length >= 64 ? 0 : ~uint64_t(0) << (first + length);
     }
   }
 }

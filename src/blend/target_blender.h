@@ -39,7 +39,21 @@ class TargetBlender {
   // The same for n consecutive texels of a row from `texels` on, sources[i] into the i-th (a span
   // whose every fragment blends): no pointer per pixel, and kernels that load and store several
   // texels at once. The same bits as blendBatch.
-  void blendRun(const glm::vec4* sources, uint8_t* texels, int n) const { runKernel_(*this, sources, texels, n); }
+  // Pixels whose blend cannot change their texel's bits (keptPixels) are left alone.
+  void blendRun(const glm::vec4* sources, uint8_t* texels, int n) const {
+    if (skipsEmptyPixels_) return blendRunKeeping(sources, texels, n);
+    runKernel_(*this, sources, texels, n);
+  }
+  // Bit i set where blending sources[i] over the i-th of n ≤ 64 consecutive texels would leave
+  // its bits as they are, known without blending. Only for the composite states
+  // (compositeBlend, premultipliedOntoBackgroundBlend) and the source (+0, +0, +0, 1), what a
+  // composite's shader gives a pixel that no transparent fragment reached: 0·(1 − 1) + d·1 = d
+  // (composite) or 0·1 + d·1 = d (premultiplied) on RGB and 0·1 + d·1 = d on alpha, exactly, for
+  // every UNORM8 code (decoded, clamped and encoded back, or llvmpipe's integer products with the
+  // factors 0 and 255) and every float d that is not NaN (canonicalised), not −0 (+0 + −0 = +0)
+  // and not a denormal where the profile flushes them. The `nvidia` profile's arithmetic is not
+  // covered. No bit for any other state, source or target.
+  uint64_t keptPixels(const glm::vec4* sources, const uint8_t* texels, int n) const;
 
  private:
   using Kernel = void (*)(const TargetBlender&, const glm::vec4&, uint8_t*);
@@ -96,6 +110,8 @@ class TargetBlender {
       runKernel_ = llvmpipeFloatTexelRun<Channels, Half>;
     }
   }
+  // blendRun where skipsEmptyPixels_: the run's pixels that keptPixels spares are skipped.
+  void blendRunKeeping(const glm::vec4* sources, uint8_t* texels, int n) const;
   static void nvidiaKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void maskedOffKernel(const TargetBlender&, const glm::vec4&, uint8_t*) {}
 
@@ -108,6 +124,9 @@ class TargetBlender {
   unsigned mask_;
   size_t texelBytes_;
   bool flushDenormals_;
+  // keptPixels's case: a composite state on an eligible target and profile (decided per draw).
+  bool skipsEmptyPixels_ = false;
+  bool floatFlushesDenormals_ = false;  // the llvmpipe float model flushing denormal destinations
   LlvmpipeFloatPlan llvmpipePlan_;
   LlvmpipeFloatBlendFn llvmpipeBlend_ = nullptr;
   LlvmpipeFloatTexelFns llvmpipeTexels_;
