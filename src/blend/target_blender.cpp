@@ -240,9 +240,14 @@ namespace {
 // keptPixels's tests, one per texel layout, without branches: one runs over a whole run before
 // any of it blends.
 inline bool isEmptyPixel(const glm::vec4& source) {  // (+0, +0, +0, 1) exactly
+#if defined(__SSE2__)
+  const __m128i s = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&source[0]));
+  return _mm_movemask_epi8(_mm_cmpeq_epi32(s, _mm_setr_epi32(0, 0, 0, 0x3f800000))) == 0xffff;
+#else
   uint32_t s[4];
   std::memcpy(s, &source[0], sizeof s);
   return ((s[0] | s[1] | s[2]) == 0u) & (s[3] == 0x3f800000u);
+#endif
 }
 inline bool halfKept(const uint8_t* texel, int channels) {  // not NaN, not −0 (fp16 denormals are kept)
   bool kept = true;
