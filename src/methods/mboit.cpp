@@ -137,45 +137,35 @@ class Mboit final : public Method {
     // The usual set — four power moments in fp32, the depth warped linearly or not at all —
     // runs passes of its own, decided here once: no per-fragment branch on the configuration.
     const bool usualSet = !quantised_ && reals == 4 && !set.trigonometric && !logWarp_;
-    if (usualSet) {
-      momentFb.color[0] = &b0Image;
-      momentFb.color[1] = momentImages[0];
-      run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
-                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
-                                 const int count = in.count;
-                                 float absorbance[kShaderBatch];
-                                 absorbancesOf(colors, count, absorbance);
-                                 for (int i = 0; i < count; ++i) {
-                                   const float a = absorbance[i];
-                                   const bool adds = !(a < 1e-7f);  // nearly clear: adds nothing measurable
-                                   out.writeIf(i, 0, glm::vec4(a), adds);
-                                   out.writeIf(i, 1, PowerMoments(linearWarp(in, i)).firstFour() * a, adds);
-                                 }
-                               });
-    } else if (!quantised_) {
+    if (!quantised_) {
       momentFb.color[0] = &b0Image;
       momentFb.color[1] = momentImages[0];
       momentFb.color[2] = momentImages[1];
-      run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
-                               [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
-                                 const int count = in.count;
-                                 float absorbance[kShaderBatch];
-                                 absorbancesOf(colors, count, absorbance);
-                                 for (int i = 0; i < count; ++i) {
-                                   const float a = absorbance[i];
-                                   if (a < 1e-7f) continue;  // nearly clear: adds nothing measurable
-                                   if (reals == 4 && !set.trigonometric) {  // the usual set, in registers
-                                     out.write(i, 0, glm::vec4(a));
-                                     out.write(i, 1, PowerMoments(warp(in, i)).firstFour() * a);
-                                     continue;
-                                   }
-                                   float m[8] = {};
-                                   momentsOf(set, warp(in, i), zone, m);
-                                   out.write(i, 0, glm::vec4(a));
-                                   out.write(i, 1, glm::vec4(m[0], m[1], m[2], m[3]) * a);
-                                   if (reals > 4) out.write(i, 2, glm::vec4(m[4], m[5], m[6], m[7]) * a);
-                                 }
-                               });
+      // Blended ONE, ONE: writeMoments(in, i, A, out) writes fragment i's b0 and moments, or
+      // nothing when it is nearly clear (A below 1e-7 adds nothing measurable).
+      auto momentPass = [&](auto writeMoments) {
+        run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
+                                 [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
+                                   float absorbance[kShaderBatch];
+                                   absorbancesOf(colors, in.count, absorbance);
+                                   for (int i = 0; i < in.count; ++i) writeMoments(in, i, absorbance[i], out);
+                                 });
+      };
+      if (usualSet)
+        momentPass([&](const FragmentBatch& in, int i, float a, FragmentBatchOutput& out) {
+          const bool adds = !(a < 1e-7f);
+          out.writeIf(i, 0, glm::vec4(a), adds);
+          out.writeIf(i, 1, PowerMoments(linearWarp(in, i)).firstFour() * a, adds);
+        });
+      else
+        momentPass([&](const FragmentBatch& in, int i, float a, FragmentBatchOutput& out) {
+          if (a < 1e-7f) return;
+          float m[8] = {};
+          momentsOf(set, warp(in, i), zone, m);
+          out.write(i, 0, glm::vec4(a));
+          out.write(i, 1, glm::vec4(m[0], m[1], m[2], m[3]) * a);
+          if (reals > 4) out.write(i, 2, glm::vec4(m[4], m[5], m[6], m[7]) * a);
+        });
     } else {
       // Read-modify-write in raster order: a batch's fragments lie in distinct pixels of one row,
       // and the batches of a pixel come in primitive order, so a batch reads its texels, updates
