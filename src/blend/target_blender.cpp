@@ -187,8 +187,7 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
     const ChannelEncoding e = format.encoding();
     const bool eligibleFormat = (e == ChannelEncoding::Unorm && !format.isPacked() && format.unormBits(0) == 8) ||
                                 e == ChannelEncoding::Half || e == ChannelEncoding::Float32;
-    const bool nvidiaArithmetic = format.isUnorm() ? profile.unormBlend == UnormBlend::Nvidia : profile.floatBlend == FloatBlend::Nvidia;
-    skipsEmptyPixels_ = allowFastPath && compositeState && mask_ == all && eligibleFormat && !nvidiaArithmetic;
+    skipsEmptyPixels_ = allowFastPath && compositeState && mask_ == all && eligibleFormat && !nvidia;
     floatFlushesDenormals_ = profile.floatBlend == FloatBlend::Llvmpipe && flushDenormals_;
   }
   if (mask_ == 0) use<maskedOffKernel>();
