@@ -38,10 +38,11 @@ inline To convert(From v) {
   else return To(v);
 }
 
-// The constant v in every lane.
+// The constant v in every lane. As v − 0, not 0 + v: a sum of zeros is +0 where v is −0, and
+// lanes must hold what the scalar holds (x − (+0) = x for every x, −0 included).
 template <typename T>
 inline T splat(double v) {
-  if constexpr (isVector<T>) return T{} + v;
+  if constexpr (isVector<T>) return v - T{};
   else return T(v);
 }
 

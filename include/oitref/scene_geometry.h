@@ -66,9 +66,11 @@ inline int shadeSurfaceReads(const SceneObject& object) {
   return object.type == ObjectType::Particles || object.texture ? kSceneAttributeCount : 4;
 }
 inline int shadeSurfaceDerivatives(const SceneObject& object) { return object.texture ? 4 : -1; }
+// The vertex colour, attributes 0–3: what shadeSurface gives an untextured mesh.
+inline glm::vec4 vertexColour(const float* a, int stride) { return {a[0], a[stride], a[2 * stride], a[3 * stride]}; }
 inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int stride = 1, const double* derivatives = nullptr,
                               int derivativeStride = 1, TextureFiltering filtering = TextureFiltering::Exact) {
-  glm::vec4 c(a[0], a[stride], a[2 * stride], a[3 * stride]);
+  glm::vec4 c = vertexColour(a, stride);
   if (object.type == ObjectType::Particles) {
     const float x = 2.0f * a[4 * stride] - 1.0f, y = 2.0f * a[5 * stride] - 1.0f;
     const float r2 = x * x + y * y;
@@ -78,6 +80,17 @@ inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int str
   if (object.texture)
     c = c * sampleSurfaceTexture(object, a[4 * stride], a[5 * stride], derivatives, derivativeStride, filtering);
   return c;
+}
+// shadeSurface for fragments [0, count) of a batch (attribute k of fragment i at a[k · stride + i],
+// derivatives likewise): the object's kind decided once, not per fragment.
+inline void shadeSurfaceBatch(const SceneObject& object, const float* a, int stride, const double* derivatives,
+                              int derivativeStride, TextureFiltering filtering, int count, glm::vec4* out) {
+  if (object.type != ObjectType::Particles && !object.texture) {
+    for (int i = 0; i < count; ++i) out[i] = vertexColour(a + i, stride);
+    return;
+  }
+  for (int i = 0; i < count; ++i)
+    out[i] = shadeSurface(object, a + i, stride, derivatives ? derivatives + i : nullptr, derivativeStride, filtering);
 }
 // The alpha test of an object that has one ("alpha_test"): its fragments whose shaded alpha is
 // below the threshold (or NaN) are discarded, as a shader's `if (!(c.a >= threshold)) discard;`.

@@ -67,7 +67,7 @@ template <typename V>
 using IntLanesOf = std::conditional_t<sizeof(V) == 16, v4i, v8i>;
 template <typename V>
 inline V splatLanes(float x) {
-  return V{} + x;
+  return x - V{};  // x − (+0) keeps −0 (lanes::splat)
 }
 // Lane `L` of each pixel in all of that pixel's lanes.
 template <int L>

@@ -110,9 +110,8 @@ class PassRunner {
           [&object, &shader, filtering](const FragmentBatch& in, FragmentBatchOutput& out) {
             if (in.count <= 0) return;  // never: it tells the compiler the rows below are set
             glm::vec4 colors[kShaderBatch];
-            for (int i = 0; i < in.count; ++i)
-              colors[i] = shadeSurface(object, in.attributes + i, in.attributeStride,
-                                       in.derivatives ? in.derivatives + i : nullptr, in.derivativeStride, filtering);
+            shadeSurfaceBatch(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride, filtering,
+                              in.count, colors);
             if (!object.alphaTest) return shader(in, colors, out);
             // The alpha test's survivors, each as a batch of one (the shader must not see the
             // others: it may store what it sees).

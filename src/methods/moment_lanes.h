@@ -46,7 +46,7 @@ template <typename F>
 using MaskOf = std::conditional_t<std::is_arithmetic_v<F>, bool, std::conditional_t<std::is_same_v<F, v8f>, v8i, d4Mask>>;
 template <typename F>
 inline F splatF(float v) {
-  return F{} + v;
+  return v - F{};  // v − (+0) keeps −0 (lanes::splat)
 }
 inline float selectF(bool m, float a, float b) { return m ? a : b; }
 inline double selectF(bool m, double a, double b) { return m ? a : b; }

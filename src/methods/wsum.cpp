@@ -30,8 +30,8 @@ class Wsum final : public Method {
     fb.color[0] = &accum;
     fb.depth = &t.depth("depth");
     const PipelineState st = transparentState(context.profile, additiveBlend());  // steps 6–8
-    run.transparentPass("accumulate", fb, st, [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
-      out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));   // step 9
+    run.transparentBatchPass("accumulate", fb, st, [](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput& out) {
+      for (int i = 0; i < in.count; ++i) out.write(i, 0, glm::vec4(glm::vec3(c[i]) * c[i].a, c[i].a));  // step 9
     });
     // Step 11: C_f = C2.rgb + C1.rgb·(1 − C2.a), a full-screen pass into C3 (and the analysis copy).
     Image& final = t.color("final");

@@ -86,6 +86,10 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
     const float* a = geometry_->vertexAttributes(t.vertexIndex[i]);
     for (int k = 0; k < n; ++k) vertexAttributes_[size_t(i * n + k)] = a[k];
   }
+  const double* va = vertexAttributes_.data();
+  flatAttributes_ = 0;
+  for (int k = 0; k < std::min(n, 64); ++k)
+    flatAttributes_ |= uint64_t(flatAttributeValue(va[k], va[n + k], va[2 * n + k])) << k;
 }
 
 void FragmentStage::interpolateAttributes(const double* b, float* out) const {
@@ -100,10 +104,28 @@ void FragmentStage::interpolateAttributesBatch(const double* b0, const double* b
                                                float* out) const {
   const int n = int(attributes_.size());
   const double* va = vertexAttributes_.data();
+  // The flat attributes are their vertices' value where every lane's B is below the bound
+  // (flatAttributeValue); a NaN B fails the test.
+  uint64_t flat = flatAttributes_;
+  if (flat) {
+    typedef int64_t l4 __attribute__((vector_size(32)));
+    const auto magnitude = [](lanes::d4 v) { return v < 0.0 ? -v : v; };
+    l4 bounded = l4{} - 1;
+    for (int j = 0; j < count; j += 4) {
+      lanes::d4 c0, c1, c2;
+      std::memcpy(&c0, b0 + j, sizeof c0), std::memcpy(&c1, b1 + j, sizeof c1), std::memcpy(&c2, b2 + j, sizeof c2);
+      bounded &= (magnitude(c0) + magnitude(c1)) + magnitude(c2) < kFlatBarycentricBound;
+    }
+    if (!(bounded[0] & bounded[1] & bounded[2] & bounded[3])) flat = 0;
+  }
   for (int k = 0; k < n; ++k) {
+    float* row = out + size_t(k) * kBatch;
+    if (k < 64 && (flat >> k & 1)) {
+      std::fill_n(row, count, float(va[k]));
+      continue;
+    }
     const lanes::d4 a0 = lanes::splat<lanes::d4>(va[k]), a1 = lanes::splat<lanes::d4>(va[n + k]),
                     a2 = lanes::splat<lanes::d4>(va[2 * n + k]);
-    float* row = out + size_t(k) * kBatch;
     for (int j = 0; j < count; j += 4) {
       lanes::d4 c0, c1, c2;
       std::memcpy(&c0, b0 + j, sizeof c0), std::memcpy(&c1, b1 + j, sizeof c1), std::memcpy(&c2, b2 + j, sizeof c2);

@@ -13,6 +13,7 @@
 // (det M = 0) is seen edge-on and produces no fragments.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -95,6 +96,19 @@ class FragmentStage {
     return float(b0 * a0 + b1 * a1 + b2 * a2);
   }
   void interpolateAttributes(const double* b, float* out) const;
+  // An attribute whose three vertices hold the same float a, finite and not zero, interpolates to
+  // a itself at every pixel where B = |b0| + |b1| + |b2| < 2^20. Proof, with u = 2^−53: the lane's
+  // r = (b0·a + b1·a) + b2·a in double is within γ3·B·|a| of (b0 + b1 + b2)·a (three roundings
+  // at most per term; a product that underflows adds 2^−1075, far below a float's spacing), and
+  // b_i = k_i·w, w = 1/((k0 + k1) + k2) put b0 + b1 + b2 within u + (γ2 + u)·B·(1 + 3u) of 1
+  // (Σ|k_i|·|w| ≤ B/(1 − u)). So |r − a| ≤ 7u·B·|a| < 2^−30·|a| (B ≥ 1 since Σ b_i ≈ 1); every
+  // float a is at least 2^−25·|a| from the nearest rounding boundary of fp32 (half the spacing
+  // below a power of two; subnormals are farther), so fp32(r) = a. Zero is left out because the
+  // sign of r's zero depends on the b_i's signs, and NaN and infinities because b_i·a can be NaN.
+  static bool flatAttributeValue(double a0, double a1, double a2) {
+    return a0 == a1 && a1 == a2 && a0 != 0.0 && std::isfinite(a0);
+  }
+  static constexpr double kFlatBarycentricBound = 1048576.0;  // 2^20
   void interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count, float* out) const;
   void fillInput(FragmentInput& in, int x, int y, double z, double w) const;
   // Pixel x of the row at NDC y `yn`: the perspective-correct barycentrics b, the view depth w and
@@ -160,6 +174,9 @@ class FragmentStage {
   unsigned boundTargets_ = 0;
   std::vector<TargetBlender> blenders_;  // per bound target, in target order
   std::vector<double> vertexAttributes_;  // 3 × attributeCount, of the original vertices
+  // The current triangle's attributes (the first 64) that interpolate to their vertices' common
+  // value wherever the batch's barycentrics are bounded (flatAttributeValue): bit k for attribute k.
+  uint64_t flatAttributes_ = 0;
   std::vector<float> attributes_;         // interpolated, for the shader
   FragmentOutput output_;
   FragmentCounters counters_;
