@@ -117,14 +117,24 @@ class FragmentStage {
   // exact): the same IEEE operations in every lane.
   template <typename D, typename X>
   void interpolate(X x, double yn, D& w, D& b0, D& b1, D& b2, D& z) const {
+    interpolateViewDepth(x, yn, b0, b1, b2, w);
+    interpolateWindowDepth(w, b0, b1, b2, z);
+  }
+  // interpolate() in two steps. The first: k = M⁻¹·(x_n, y_n, 1) (left in b0, b1, b2) and P.w.
+  template <typename D, typename X>
+  void interpolateViewDepth(X x, double yn, D& k0, D& k1, D& k2, D& w) const {
     const double(&inverse)[3][3] = interpolation_->inverse;
-    const double* clipZ = interpolation_->clipZ;
     const D xn = D(x) * ndcScaleX_ + ndcOffsetX_;
-    const D k0 = inverse[0][0] * xn + inverse[0][1] * yn + inverse[0][2];
-    const D k1 = inverse[1][0] * xn + inverse[1][1] * yn + inverse[1][2];
-    const D k2 = inverse[2][0] * xn + inverse[2][1] * yn + inverse[2][2];
+    k0 = inverse[0][0] * xn + inverse[0][1] * yn + inverse[0][2];
+    k1 = inverse[1][0] * xn + inverse[1][1] * yn + inverse[1][2];
+    k2 = inverse[2][0] * xn + inverse[2][1] * yn + inverse[2][2];
     w = 1.0 / (k0 + k1 + k2);  // P.w, the view depth
-    b0 = k0 * w, b1 = k1 * w, b2 = k2 * w;
+  }
+  // The second: b = k·w in place, and the window z.
+  template <typename D>
+  void interpolateWindowDepth(D w, D& b0, D& b1, D& b2, D& z) const {
+    const double* clipZ = interpolation_->clipZ;
+    b0 = b0 * w, b1 = b1 * w, b2 = b2 * w;
     z = 0.5 * ((b0 * clipZ[0] + b1 * clipZ[1] + b2 * clipZ[2]) / w) + 0.5;
   }
   // Blends `count` fragments of the batch target by target: outputs_'s fragment index[i] (i when
