@@ -193,6 +193,19 @@ class FragmentBatchOutput {
   bool discarded(int i) const { return state_[i] & kDiscarded; }
   bool depthWritten(int i) const { return state_[i] & kDepthWritten; }
   float depth(int i) const { return depth_[i]; }
+  // Of fragments [0, count): the targets every one wrote, and whether any was discarded. One
+  // pass over the states as and/or reductions, which run in vector lanes (a loop over
+  // writtenMask(i) and discarded(i) carried its result from fragment to fragment).
+  unsigned writtenByAll(int count) const {
+    unsigned all = kWrittenMask;
+    for (int i = 0; i < count; ++i) all &= state_[i];
+    return all;
+  }
+  bool anyDiscarded(int count) const {
+    unsigned any = 0;
+    for (int i = 0; i < count; ++i) any |= state_[i];
+    return any & kDiscarded;
+  }
   // Nothing written, discarded or depth set for fragments [0, count).
   void reset(int count) {
     for (int i = 0; i < count; ++i) state_[i] = 0;
