@@ -336,9 +336,10 @@ void FragmentStage::shadeAndBlendBatch(int y, int count) {
   if (earlyTests_) {
     // afterShader with the depth test done: discard, and whether a bound output was written.
     // Usually no fragment discarded and all wrote a bound target: then all of them blend.
-    if (!outputs_.anyDiscarded(count) && (outputs_.writtenByAll(count) & boundTargets_)) {
+    const unsigned written = outputs_.writtenByAll(count);
+    if (!outputs_.anyDiscarded(count) && (written & boundTargets_)) {
       counters_.written += uint64_t(count);
-      blendBatch(y, count, batchX_, nullptr);
+      blendBatch(y, count, batchX_, nullptr, written);
       return;
     }
     uint64_t discarded = 0;
@@ -393,16 +394,11 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
   }
 }
 
-void FragmentStage::blendBatch(int y, int count, const int* xs, const int* index) {
+void FragmentStage::blendBatch(int y, int count, const int* xs, const int* index, unsigned writtenByAll) {
   const glm::vec4* gathered[kBatch];
   uint8_t* texels[kBatch];
   // The targets every fragment of the batch wrote (the usual case) take all of them without
   // compaction: compacting, each fragment's slot waited on the previous one's written bit.
-  unsigned writtenByAll = ~0u;
-  if (index)
-    for (int i = 0; i < count; ++i) writtenByAll &= outputs_.writtenMask(index[i]);
-  else
-    writtenByAll = outputs_.writtenByAll(count);
   // Consecutive pixels (ascending and distinct, so the ends tell): texel addresses by a stride.
   const bool consecutive = count > 0 && xs[count - 1] - xs[0] == count - 1;
   for (unsigned targets = boundTargets_; targets;) {

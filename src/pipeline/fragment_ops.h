@@ -139,7 +139,18 @@ class FragmentStage {
   }
   // Blends `count` fragments of the batch target by target: outputs_'s fragment index[i] (i when
   // index is null: all of them) at x = xs[i] on row y.
-  void blendBatch(int y, int count, const int* xs, const int* index);
+  // `writtenByAll`: the targets every one of those fragments wrote, where the caller knows them.
+  void blendBatch(int y, int count, const int* xs, const int* index) {
+    blendBatch(y, count, xs, index, writtenByAll(count, index));
+  }
+  void blendBatch(int y, int count, const int* xs, const int* index, unsigned writtenByAll);
+  // The targets that outputs_'s fragments index[i], i < count (i when index is null), all wrote.
+  unsigned writtenByAll(int count, const int* index) const {
+    if (!index) return outputs_.writtenByAll(count);
+    unsigned all = ~0u;
+    for (int i = 0; i < count; ++i) all &= outputs_.writtenMask(index[i]);
+    return all;
+  }
   // The derivatives of attributes derivativesOf_, derivativesOf_ + 1 for the fragment at (x, y)
   // of the current triangle (FragmentInput::derivatives), at out[i · stride]: GL 4.6 §15.2.3's
   // fine differences over its 2×2 quad, ∂/∂x between the quad's two pixels of row y, ∂/∂y
