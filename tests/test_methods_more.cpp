@@ -476,3 +476,18 @@ TEST_CASE("dualpeel: outputs=changing leaves every attachment as the sample's sh
   }
   CHECK(compared == 27);
 }
+
+TEST_CASE("every method renders finite pixels at its defaults unless it declares when it does not", "[methods]") {
+  // MethodInfo::nonFiniteWhen is what `oitref methods` prints and what the options fuzzer
+  // (tests/fuzz/fuzz_options.cpp) trusts: a method that leaves it empty must not give NaN or inf on
+  // the test scene, whose particles fade to α = 0 at their rims; one that fills it must show it.
+  for (const MethodInfo& info : allMethods()) {
+    const FrameResult frame = render(reference().scene, info.name);
+    int nonFinite = 0;
+    for (int y = 0; y < frame.finalFloat.height(); ++y)
+      for (int x = 0; x < frame.finalFloat.width(); ++x)
+        for (int c = 0; c < 4; ++c) nonFinite += !std::isfinite(frame.finalFloat.fetch(x, y)[c]);
+    INFO(info.name << ": " << nonFinite << " non-finite channels");
+    CHECK((nonFinite > 0) == !info.nonFiniteWhen.empty());
+  }
+}

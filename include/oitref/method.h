@@ -68,6 +68,9 @@ struct MethodInfo {
   std::string name, summary;
   std::vector<MethodOption> options;
   std::vector<MethodPreset> presets = {};  // when not empty, the method also takes preset=none|NAME…
+  // When not empty: the inputs for which the method's published arithmetic gives NaN or inf pixels
+  // at its defaults (as a GPU running it would). Empty: a non-finite pixel at defaults is a defect.
+  std::string nonFiniteWhen = {};
 };
 
 // Option values by key ("accum" -> "rgba16f"); every key of the method, defaults filled in (and

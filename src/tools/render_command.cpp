@@ -128,6 +128,7 @@ void addMethodsCommand(CLI::App& app, int& exitCode) {
         for (const auto& [key, value] : p.values) values += " " + key + "=" + value;
         std::printf("      preset=%s: %s;%s\n", p.name.c_str(), p.meaning.c_str(), values.c_str());
       }
+      if (!m.nonFiniteWhen.empty()) std::printf("    non-finite pixels: %s\n", m.nonFiniteWhen.c_str());
     }
     exitCode = 0;
   });
