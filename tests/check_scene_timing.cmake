@@ -7,11 +7,17 @@ execute_process(COMMAND ${OITREF} glcheck scene ${common} --methods opaque,wsum 
 if(NOT s EQUAL 0)
   message(FATAL_ERROR "glcheck scene --time failed (${s}):\n${timed}\n${e}")
 endif()
+# Ten figures a row: wall min, wall median and CPU median for each side, the two ratios of the
+# medians and the two medians of the runs' own ratios ("pairs ×").
+if(NOT timed MATCHES "CPU × wall × pairs × +wall ")
+  message(FATAL_ERROR "the timing table lacks the paired ratios:\n${timed}")
+endif()
+string(REPEAT " +[0-9]+\\.[0-9]+" 10 ten)
 foreach(method opaque wsum)
   execute_process(COMMAND ${OITREF} render ${common} --method ${method} --threads 1 OUTPUT_VARIABLE rendered RESULT_VARIABLE r)
   string(REGEX MATCH "pixels sha256 ([0-9a-f]+)" _ "${rendered}")
   string(SUBSTRING "${CMAKE_MATCH_1}" 0 16 hash)
-  if(NOT r EQUAL 0 OR hash STREQUAL "" OR NOT timed MATCHES "\n  ${method} +[0-9. ]+ ${hash}\n")
+  if(NOT r EQUAL 0 OR hash STREQUAL "" OR NOT timed MATCHES "\n  ${method}${ten} +${hash}\n")
     message(FATAL_ERROR "${method}: the timed row does not carry oitref render's hash '${hash}':\n${timed}")
   endif()
 endforeach()

@@ -60,15 +60,17 @@ void printTimings(std::ostream& out, const std::vector<SceneCheckRow>& rows, con
                 "  timing: %d runs each, alternated, after a warm run; %d thread(s) each; both reuse their "
                 "attachments between runs (oitref: a pool; GL: one frame, then glFinish)\n", o.timeRuns, threads);
   out << line;
-  std::snprintf(line, sizeof line, "  %-8s %11s %9s %11s %12s %9s %11s %9s %6s   %s\n", "method", "oitref ms", "wall med",
-                "CPU med", "GL ms", "wall med", "CPU med", "CPU ×", "wall ×", "oitref sha256 (frame)");
-  out << "  (oitref ms and GL ms: minimum wall time)\n" << line;
+  std::snprintf(line, sizeof line, "  %-8s %11s %9s %11s %12s %9s %11s %9s %6s %8s %7s   %s\n", "method", "oitref ms",
+                "wall med", "CPU med", "GL ms", "wall med", "CPU med", "CPU ×", "wall ×", "pairs ×", "wall", "oitref sha256 (frame)");
+  out << "  (oitref ms and GL ms: minimum wall time; CPU × and wall ×: the ratio of the medians; pairs ×: the median of\n"
+         "  each run's ratio, oitref's frame over the GL frame right after it, CPU then wall)\n" << line;
   for (const SceneCheckRow& r : rows) {
     if (!r.timing) continue;
     const TimingStats &a = r.timing->oitref, &b = r.timing->gl;
-    std::snprintf(line, sizeof line, "  %-8s %11.2f %9.2f %11.2f %12.2f %9.2f %11.2f %9.2f %6.2f   %s\n", r.method.c_str(),
-                  a.minWallMs, a.medianWallMs, a.medianCpuMs, b.minWallMs, b.medianWallMs, b.medianCpuMs,
-                  a.medianCpuMs / b.medianCpuMs, a.medianWallMs / b.medianWallMs, r.timing->sha256.substr(0, 16).c_str());
+    std::snprintf(line, sizeof line, "  %-8s %11.2f %9.2f %11.2f %12.2f %9.2f %11.2f %9.2f %6.2f %8.2f %7.2f   %s\n",
+                  r.method.c_str(), a.minWallMs, a.medianWallMs, a.medianCpuMs, b.minWallMs, b.medianWallMs, b.medianCpuMs,
+                  a.medianCpuMs / b.medianCpuMs, a.medianWallMs / b.medianWallMs, r.timing->pairedCpuRatio,
+                  r.timing->pairedWallRatio, r.timing->sha256.substr(0, 16).c_str());
     out << line;
   }
   // Per pass: medians over the runs, summed per kind over a frame (×N: N passes of that kind).

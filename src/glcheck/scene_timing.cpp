@@ -81,6 +81,13 @@ struct PassSamples {
 
 }  // namespace
 
+double medianOfRatios(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.empty() || a.size() != b.size()) throw std::invalid_argument("medianOfRatios: two series of one non-zero length");
+  std::vector<double> ratios(a.size());
+  for (size_t i = 0; i < a.size(); ++i) ratios[i] = a[i] / b[i];
+  return Samples::median(std::move(ratios));
+}
+
 double measureMemoryBandwidth() {
   const size_t bytes = size_t(256) << 20;
   std::vector<uint8_t> from(bytes, 1), to(bytes, 0);  // touched: no page faults inside the clock
@@ -144,6 +151,8 @@ MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Met
     throw std::runtime_error(method.info().name + ": GL's frame changed between timed runs (a pass relies on an uncleared attachment)");
   timing.oitref = ours.stats();
   timing.gl = gl.stats();
+  timing.pairedCpuRatio = medianOfRatios(ours.cpu, gl.cpu);
+  timing.pairedWallRatio = medianOfRatios(ours.wall, gl.wall);
   timing.compositeTrafficBytes = compositeTrafficBytes(method.attachments(), frame.width, frame.height);
   timing.oitrefPasses = ourPasses.stats();
   timing.glPasses = glPasses.stats();

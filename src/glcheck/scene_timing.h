@@ -27,6 +27,11 @@ struct PassTiming {
 
 struct MethodTiming {
   TimingStats oitref, gl;
+  // The median over runs of oitref's CPU (wall) time over GL's in the same run: each ratio compares
+  // two frames rendered one right after the other, so a change of the machine's speed between runs
+  // (this project's machine swings by a third within seconds) cancels in it, where the ratio of the
+  // two medians can take them from different phases.
+  double pairedCpuRatio = 0, pairedWallRatio = 0;
   // oitref's passes as PassReport times them (steady clock around each pass); GL's by timer queries
   // (GL_TIME_ELAPSED, the driver's clock): GL's kinds are opaque, transparent, full-screen, composite.
   std::vector<PassTiming> oitrefPasses, glPasses;
@@ -42,6 +47,9 @@ double measureMemoryBandwidth();
 // declares once and reads and writes the two presented targets (RGBA8 and the RGBA32F analysis
 // copy): bytes. Over the bandwidth, the time below which no full-screen composite can go.
 double compositeTrafficBytes(const std::vector<AttachmentDecl>& attachments, int width, int height);
+
+// The median over i of a[i] / b[i] (same length, at least one).
+double medianOfRatios(const std::vector<double>& a, const std::vector<double>& b);
 
 MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Method& method, GlMethod glMethod,
                         const MethodOptions& options, int runs);
