@@ -20,9 +20,10 @@
 //  * Profile "llvmpipe" with unorm_blend=integer: UNORM targets blend in integers of w bits as
 //    Mesa's llvmpipe does (w = 8 for r8, rg8, rgba8; 16 for rgb10a2): source and constant
 //    quantised to w bits first by the profile's UNORM rule, stored channels widened by bit
-//    replication, a·b/(2^w−1) computed as t = a·b + 2^(w−1); (t + (t >> w)) >> w, 1 − x as
-//    2^w−1 − x, ADD saturating at the maximum and SUBTRACT at 0, the result narrowed to the
-//    channel's bits as src/format/unorm_rescale.h says.
+//    replication, a·b/(2^w−1) as llvmpipe's lp_build_mul_norm computes it (the rule is stated
+//    once, in mulUnormInteger, src/blend/blend_unorm_integer.h), 1 − x as 2^w−1 − x, ADD
+//    saturating at the maximum and SUBTRACT at 0, the result narrowed to the channel's bits as
+//    src/format/unorm_rescale.h says.
 #pragma once
 
 #include <cstdint>

@@ -6,9 +6,9 @@
 //  llvmpipe  Mesa's software GL driver: fp16 and F11/F10 stores round toward zero (finite
 //            overflow -> largest finite value); UNORM conversion rounds the fp32 product
 //            f·(2^b−1); UNORM targets blend in integers of 8 bits (r8, rg8, rgba8) or 16 bits
-//            (rgb10a2) on the quantised source, a·b/(2^w−1) as t = a·b + 2^(w−1);
-//            (t + (t >> w)) >> w; rgb10a2 channels go through 16 bits even with blending off
-//            and are narrowed by truncation (colour) — see src/format/unorm_rescale.h.
+//            (rgb10a2) on the quantised source, a·b/(2^w−1) as lp_build_mul_norm computes it
+//            (mulUnormInteger, src/blend/blend_unorm_integer.h); rgb10a2 channels go through
+//            16 bits even with blending off and are narrowed by truncation (colour) — see src/format/unorm_rescale.h.
 //            Float targets blend as llvmpipe's generated code does (constant folding, lerps,
 //            minps/maxps; src/blend/blend_llvmpipe_float.h), with the lerp's multiply-add fused
 //            as on CPUs with FMA (fma=on; use "llvmpipe,fma=off" for a CPU without FMA).

@@ -4,7 +4,7 @@
 // the widest channel rounded up to 8 or 16 bits, so w = 8 for r8/rg8/rgba8 and w = 16 for
 // rgb10a2. The fp32 source and constant are converted to w bits (the fp32-product rule); stored
 // channels of n < w bits are widened by bit replication; a·b/(2^w − 1) is computed as
-// t = a·b + 2^(w−1); (t + (t >> w)) >> w; the result is narrowed back to n bits with
+// mulUnormInteger below states it; the result is narrowed back to n bits with
 // llvmpipe's scale_bits: a plain right shift when w − n ≤ n (rgb10a2's colour: truncation), and
 // ((v >> n)·(2^n − 1) + 2^(w−n−1)) >> (w − n) otherwise (rgb10a2's 2-bit alpha). Writes with
 // blending off take the same conversion and narrowing.
