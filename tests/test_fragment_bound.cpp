@@ -17,10 +17,8 @@ namespace {
 uint64_t countedFragments(const Scene& scene, const SceneGeometry& geometry, Renderer& renderer) {
   const FrameContext context{scene, geometry, scene.width, scene.height, exactProfile(), renderer};
   const FrameResult frame = makeMethod("abuffer")->render(context);
-  for (const auto& [k, v] : frame.facts)
-    if (k == "fragments") return std::stoull(v);
-  FAIL("no fragments fact");
-  return 0;
+  REQUIRE(frame.stats.fragments.has_value());
+  return *frame.stats.fragments;
 }
 
 }  // namespace

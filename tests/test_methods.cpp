@@ -189,18 +189,16 @@ TEST_CASE("methods: depth peeling with enough passes equals the sorted composite
     requireClose(peel.finalFloat, x, y, overBackToFront(f, c0), 8 * (f.size() + 2) * kU32, "peel");
   });
   CHECK(compared > 2000);
-  const auto fact = [&](const std::string& key) {
-    for (const auto& [k, v] : peel.facts)
-      if (k == key) return v;
-    return std::string();
-  };
   size_t deepest = 0;
   forEachPixel([&](int, int, const std::vector<TransparentFragment>& f, glm::dvec3) { deepest = std::max(deepest, f.size()); });
-  CHECK(fact("passes that peeled a layer") == std::to_string(deepest));
-  CHECK(fact("all layers peeled") == "yes");
+  CHECK(peel.stats.layersPeeled == int(deepest));
+  CHECK(peel.stats.allLayersPeeled == true);
   // Too few passes: the nearest layers only, and the report says so.
   const FrameResult few = render(reference().scene, "peel", {{"passes", "2"}});
-  CHECK(few.facts[1].second == "no: raise passes");
+  CHECK(few.stats.peelingPasses == 2);
+  CHECK(few.stats.layersPeeled == 2);
+  CHECK(few.stats.allLayersPeeled == false);
+  CHECK(few.stats.layersLeftBecause == "raise passes");
 }
 
 TEST_CASE("methods: sorted OVER is exact on single layers and beats unsorted OVER", "[methods]") {

@@ -191,10 +191,8 @@ TEST_CASE("dualpeel: with enough passes it is the exact composite wherever depth
   size_t deepest = 0;
   forEachPixel([&](int, int, const std::vector<TransparentFragment>& f, glm::dvec3) { deepest = std::max(deepest, f.size()); });
   CHECK(expected <= (deepest + 1) / 2 + 1);
-  std::string passes;
-  for (const auto& [k, v] : dp.facts)
-    if (k == "peeling passes") passes = v;
-  CHECK(passes == std::to_string(expected));
+  CHECK(dp.stats.peelingPasses == int(expected));
+  CHECK(dp.stats.allLayersPeeled == true);
 }
 
 TEST_CASE("dualpeel: two layers at exactly the same depth collide under MAX", "[methods][dualpeel]") {
@@ -470,7 +468,7 @@ TEST_CASE("dualpeel: outputs=changing leaves every attachment as the sample's sh
         }
         CHECK(changing.final8.sameBits(all.final8));
         CHECK(changing.finalFloat.sameBits(all.finalFloat));
-        CHECK(changing.facts == all.facts);
+        CHECK(changing.stats == all.stats);
         ++compared;
       }
   }

@@ -1,6 +1,8 @@
 // oitref study: its numbers recomputed independently from the renders they claim to measure, the
 // Pareto front by hand, and the written files parsed back.
 #include <catch2/catch.hpp>
+
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -115,6 +117,51 @@ TEST_CASE("Study: every row's numbers are those of its own render against the A-
   CHECK(html.find("<svg class=scatter") != std::string::npos);
   CHECK(html.find("id=\"scene-squares\"") != std::string::npos);
   CHECK(html.find("id=memory") != std::string::npos);
+}
+
+TEST_CASE("Study: the peeling rows say how far they peeled, dual peeling's too", "[study]") {
+  const std::filesystem::path out = test::tempFolder("oitref_study_peeling_test");
+  StudyOptions o;
+  o.scenes = {OITREF_SOURCE_DIR "/scenes/squares.json"};
+  o.outDir = out.string();
+  o.width = 64, o.height = 48;
+  o.runs = 1;
+  o.methods = {"peel", "dualpeel"};
+  Renderer renderer(RendererOptions{2, 64});
+  const StudyResult result = runStudy(o, renderer, [](const std::string&, int, int) {});
+  REQUIRE(result.scenes.size() == 1);
+  const StudyScene& s = result.scenes[0];
+  REQUIRE(s.depthComplexityMax > 0);  // from the A-buffer's lists
+  int peel = 0, dual = 0;
+  for (const StudyRow& r : s.rows) {
+    INFO(r.variant.method << " " << r.variant.label());
+    if (r.variant.method == "peel") {
+      ++peel;
+      // Front to back, one layer a pass: all of them when the passes reach the deepest pixel.
+      const int passes = r.variant.options.count("passes") ? std::stoi(r.variant.options.at("passes")) : 32;
+      if (passes >= s.depthComplexityMax) CHECK(r.note == "peeled " + std::to_string(s.depthComplexityMax) + " layers (all)");
+      else CHECK(r.note == "peeled " + std::to_string(passes) + " layers (more remain)");
+    }
+    if (r.variant.method == "dualpeel") {
+      ++dual;
+      // A front and a back layer a pass, and the pass that finds nothing ends it.
+      const int needed = (s.depthComplexityMax + 1) / 2 + 1;
+      const int passes = r.variant.options.count("passes") ? std::stoi(r.variant.options.at("passes")) : 64;
+      int drawn = 0;
+      char done[32] = {};
+      REQUIRE(std::sscanf(r.note.c_str(), "peeled in %d passes (%31[^)])", &drawn, done) == 2);
+      if (passes >= needed) {
+        CHECK(std::string(done) == "all");
+        CHECK(drawn >= (s.depthComplexityMax + 1) / 2);
+        CHECK(drawn <= needed);
+      } else if (passes < (s.depthComplexityMax + 1) / 2) {
+        CHECK(std::string(done) == "more remain");
+        CHECK(drawn == passes);
+      }
+    }
+  }
+  CHECK(peel > 0);
+  CHECK(dual > 0);
 }
 
 TEST_CASE("Study: unknown methods are refused before anything renders", "[study]") {

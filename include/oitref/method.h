@@ -17,6 +17,7 @@
 
 #include "oitref/depth.h"
 #include "oitref/format.h"
+#include "oitref/frame_stats.h"
 #include "oitref/image.h"
 #include "oitref/memory_limit.h"
 #include "oitref/profile.h"
@@ -129,7 +130,7 @@ struct FrameResult {
   Image final8;      // the presented RGBA8 target ("opaque" after compositing)
   Image finalFloat;  // the same composite into the RGBA32F analysis target
   std::vector<PassReport> passes;
-  std::vector<std::pair<std::string, std::string>> facts;  // e.g. {"passes needed", "7"}
+  FrameStats stats;                                        // what the frame reports about its own work
   std::vector<std::pair<std::string, Image>> dump;         // every colour attachment, by name
   // The A-buffer's fragments per pixel in submission order: pixel p = y·width + x owns
   // fragments[fragmentStart[p] .. fragmentStart[p + 1]). Empty for other methods.

@@ -167,12 +167,11 @@ class Abuffer final : public Method {
 
     uint64_t covered = 0;
     for (uint32_t c : count) covered += c > 0;
-    result.facts.emplace_back("fragments", std::to_string(total));
-    result.facts.emplace_back("depth complexity max", std::to_string(count[deepest]));
-    result.facts.emplace_back("depth complexity mean", std::to_string(double(total) / double(pixels)));
-    result.facts.emplace_back("pixels with transparency", std::to_string(covered));
-    result.facts.emplace_back("fragment storage bytes", std::to_string(total * sizeof(StoredFragment) +
-                                                                       (pixels + 1) * sizeof(uint64_t)));
+    result.stats.fragments = total;
+    result.stats.depthComplexityMax = count[deepest];
+    result.stats.depthComplexityMean = double(total) / double(pixels);
+    result.stats.pixelsWithTransparency = covered;
+    result.stats.fragmentStorageBytes = total * sizeof(StoredFragment) + (pixels + 1) * sizeof(uint64_t);
     t.finish(result, "opaque");
     result.fragmentStart = std::move(start);
     result.fragments = std::move(fragments);

@@ -163,11 +163,12 @@ class Dualpeel final : public Method {
     const Image& rangeLeft = *depth[current];
     for (int y = 0; y < rangeLeft.height() && !layersLeft; ++y)
       for (int x = 0; x < rangeLeft.width() && !layersLeft; ++x) layersLeft = rangeLeft.fetch(x, y).y >= 0.0f;
-    result.facts.emplace_back("peeling passes", std::to_string(pass));
-    result.facts.emplace_back("all layers peeled", !exhausted     ? "no: raise passes"
-                                                   : layersLeft ? "no: a pass peeled only fully transparent back layers, "
-                                                                  "which the occlusion query counts as nothing"
-                                                                : "yes");
+    result.stats.peelingPasses = pass;
+    result.stats.allLayersPeeled = exhausted && !layersLeft;
+    if (!exhausted) result.stats.layersLeftBecause = "raise passes";
+    else if (layersLeft)
+      result.stats.layersLeftBecause =
+          "a pass peeled only fully transparent back layers, which the occlusion query counts as nothing";
     t.finish(result, "opaque");
     return result;
   }

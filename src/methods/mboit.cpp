@@ -298,7 +298,7 @@ class Mboit final : public Method {
 
     compositeWeighted(run, t, accum, reveal, clamp_);  // as WBOIT
     t.finish(result, "opaque");
-    result.facts.emplace_back("moment reconstructions that fell back", std::to_string(fallbacks.load()));
+    result.stats.momentFallbacks = fallbacks.load();
     return result;
   }
 

@@ -108,7 +108,7 @@ class Mt final : public Method {
 
     compositeWeighted(run, t, accum, reveal);
     t.finish(result, "opaque");
-    result.facts.emplace_back("moment reconstructions that fell back", std::to_string(fallbacks.load()));
+    result.stats.momentFallbacks = fallbacks.load();
     return result;
   }
 

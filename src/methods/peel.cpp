@@ -91,8 +91,10 @@ class Peel final : public Method {
       o.write(0, c);
       o.write(1, c);
     });
-    result.facts.emplace_back("passes that peeled a layer", std::to_string(peeledPasses));
-    result.facts.emplace_back("all layers peeled", exhausted ? "yes" : "no: raise passes");
+    result.stats.peelingPasses = passes_;  // the thesis draws them all (step 4)
+    result.stats.layersPeeled = peeledPasses;
+    result.stats.allLayersPeeled = exhausted;
+    if (!exhausted) result.stats.layersLeftBecause = "raise passes";
     t.finish(result, "opaque");
     return result;
   }

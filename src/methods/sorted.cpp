@@ -82,7 +82,7 @@ class Sorted final : public Method {
     if (!order.empty()) report.stats = context.renderer.draw(fb, st, toClipGeometry(merged, run.viewProjection()), program);
     report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     result.passes.push_back(report);
-    result.facts.emplace_back("sorted triangles", std::to_string(order.size()));
+    result.stats.sortedTriangles = order.size();
     targets.finish(result, "opaque");
     return result;
   }

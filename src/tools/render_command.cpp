@@ -78,7 +78,7 @@ int runRender(const RenderOptions& o) {
   std::printf("passes:\n");
   for (const PassReport& p : result.passes)
     std::printf("  %-16s %9.2f ms %12llu fragments shaded\n", p.name.c_str(), p.ms, (unsigned long long)p.stats.fragmentsShaded);
-  for (const auto& [k, v] : result.facts) std::printf("  %s: %s\n", k.c_str(), v.c_str());
+  for (const auto& [k, v] : result.stats.lines()) std::printf("  %s: %s\n", k.c_str(), v.c_str());
   std::printf("pixels sha256 %s\n", frameHash(result).c_str());
   std::printf("frame %.2f ms%s\n", median, o.repeat > 1 ? (" (median of " + std::to_string(o.repeat) + ")").c_str() : "");
   if (!o.out.empty()) std::printf("wrote %s\n", o.out.c_str());

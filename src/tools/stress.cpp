@@ -191,8 +191,7 @@ StressCell stressCell(const StressConfig& config, const StressCondition& conditi
       cell.revealUnderflow = exactReveal.fetch(0, 0).r != 0.0f;
     }
   }
-  for (const auto& [k, v] : frame.facts)
-    if (k == "moment reconstructions that fell back") cell.momentFallbacks = std::stoull(v);
+  cell.momentFallbacks = frame.stats.momentFallbacks.value_or(0);
   return cell;
 }
 

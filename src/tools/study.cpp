@@ -93,20 +93,14 @@ std::vector<StudyVariant> studyVariants() {
 
 namespace {
 
-int factNumber(const FrameResult& frame, const std::string& key) {
-  for (const auto& [k, v] : frame.facts)
-    if (k == key) return int(std::stoll(v));
-  return 0;
-}
-
-std::string noteOf(const FrameResult& frame) {
-  std::string peeled, all;
-  for (const auto& [k, v] : frame.facts) {
-    if (k == "passes that peeled a layer") peeled = v;
-    if (k == "all layers peeled") all = v;
-  }
-  if (peeled.empty()) return "";
-  return "peeled " + peeled + " layers" + (all == "yes" ? " (all)" : " (more remain)");
+// Peeling's note: the layers peeled (front to back, one a pass) or the passes drawn (dual
+// peeling, a front and a back layer a pass), and whether any remain.
+std::string noteOf(const FrameStats& stats) {
+  if (!stats.allLayersPeeled) return "";
+  const std::string done = *stats.allLayersPeeled ? " (all)" : " (more remain)";
+  if (stats.layersPeeled) return "peeled " + std::to_string(*stats.layersPeeled) + " layers" + done;
+  if (stats.peelingPasses) return "peeled in " + std::to_string(*stats.peelingPasses) + " passes" + done;
+  return "";
 }
 
 // Renders one variant: `warmups` untimed frames, then `runs` timed frames, whose bits must all
@@ -217,8 +211,8 @@ StudyResult runStudy(const StudyOptions& o, Renderer& renderer, const StudyProgr
       std::sort(sorted.begin(), sorted.end());
       row.ms = sorted[sorted.size() / 2];
       if (s.rows.empty()) {  // the A-buffer at its defaults: the ground truth
-        s.fragments = uint64_t(factNumber(frame, "fragments"));
-        s.depthComplexityMax = factNumber(frame, "depth complexity max");
+        s.fragments = frame.stats.fragments.value_or(0);
+        s.depthComplexityMax = int(frame.stats.depthComplexityMax.value_or(0));
         truth = frame.finalFloat;
         flipTruth = std::make_unique<FlipReference>(truth);
       }
@@ -226,7 +220,7 @@ StudyResult runStudy(const StudyOptions& o, Renderer& renderer, const StudyProgr
       row.fragmentsPerSecond = row.ms > 0 ? double(row.fragmentsShaded) / (row.ms / 1000) : 0;
       row.bytesPerPixel = method->bytesPerPixel();
       row.passes = int(frame.passes.size());
-      row.note = noteOf(frame);
+      row.note = noteOf(frame.stats);
       row.image = s.name + "/" + v.slug() + ".png";
       row.heatmap = s.name + "/" + v.slug() + "_error.png";
       s.rows.push_back(row);

@@ -36,7 +36,7 @@ struct StudyRow {
   double flip = 0;                 // mean LDR ꟻLIP of the RGBA32F result against the A-buffer's (as displayed:
                                    // clamped to [0, 1], read as sRGB)
   size_t nonFinitePixels = 0;
-  std::string note;                // method facts worth a glance
+  std::string note;                // how far peeling got (FrameStats), worth a glance
   std::string image, heatmap;      // paths relative to the report folder
 };
 

@@ -43,14 +43,13 @@ SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const
     const FrameResult frame = method->render(context);
     if (info.name == "abuffer") {
       truth = frame.finalFloat;
-      for (const auto& [k, v] : frame.facts)
-        if (k == "fragments") result.fragments = std::stoull(v);
+      result.fragments = frame.stats.fragments.value_or(0);
     }
     const ImageDifference d = compareImages(frame.finalFloat, truth, 0.0);
     SuiteRow row{info.name, frame.frameMs(), method->bytesPerPixel(), d.rmse, d.maxAbs, ""};
     if (d.nonFinitePixels) row.note = std::to_string(d.nonFinitePixels) + " non-finite pixels (not in RMSE)";
-    for (const auto& [k, v] : frame.facts)
-      if (k == "passes that peeled a layer" || k == "all layers peeled" || k == "depth complexity max")
+    for (const auto& [k, v] : frame.stats.lines())
+      if (k == "peeling passes" || k == "passes that peeled a layer" || k == "all layers peeled" || k == "depth complexity max")
         row.note += (row.note.empty() ? "" : ", ") + k + ": " + v;
     result.rows.push_back(row);
     if (!outDir.empty()) {

@@ -14,7 +14,7 @@ struct SuiteRow {
   double ms = 0;
   int bytesPerPixel = 0;
   double rmse = 0, maxError = 0;  // RGB of the float result against the A-buffer's
-  std::string note;               // method facts worth a glance (e.g. peeling passes)
+  std::string note;               // the frame's figures worth a glance (FrameStats: peeling passes, …)
 };
 
 struct SuiteScene {
