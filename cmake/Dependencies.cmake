@@ -22,15 +22,6 @@ oitref_require(nlohmann_json nlohmann-json3-dev)
 # target and wrap it in oitref_oiio, copying only the include directories that exist.
 # Its config also names the openimageio-tools binaries (iconvert, ...), so both packages are needed.
 oitref_require(OpenImageIO "libopenimageio-dev openimageio-tools")
+include(OpenImageIOFix)
 add_library(oitref_oiio INTERFACE)
-get_target_property(_oiio_incs OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
-set(_oiio_existing "")
-foreach(_dir IN LISTS _oiio_incs)
-  if(EXISTS "${_dir}")
-    list(APPEND _oiio_existing "${_dir}")
-  endif()
-endforeach()
-set_target_properties(OpenImageIO::OpenImageIO PROPERTIES
-  INTERFACE_INCLUDE_DIRECTORIES "${_oiio_existing}"
-  INTERFACE_SYSTEM_INCLUDE_DIRECTORIES "")
 target_link_libraries(oitref_oiio INTERFACE OpenImageIO::OpenImageIO)

@@ -10,9 +10,11 @@
 #    The command-line tool checks at start-up that the CPU has F16C when it was built with it.
 
 add_library(oitref_flags INTERFACE)
+# The floating-point options and F16C travel with the installed package (its headers' inline
+# arithmetic must round as the library's does); the warnings stay with this build.
 target_compile_options(oitref_flags INTERFACE
   -ffp-contract=off -fno-associative-math -fno-reciprocal-math
-  -Wall -Wextra)
+  $<BUILD_INTERFACE:-Wall -Wextra>)
 # GCC notes, once per file, that a 32-byte vector passed by value is passed differently by code
 # built with and without AVX (the portable build has none). oitref's lanes (lanes.h, the blend and
 # moment kernels) pass by value only between functions of one build; the AVX2 kernels chosen at

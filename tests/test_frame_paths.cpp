@@ -39,7 +39,7 @@ TEST_CASE("methods: a pooled frame gives the bits of a fresh one", "[methods]") 
         CHECK(kept > 0);
         CHECK(pool.size() < kept);
       }
-      CHECK(tools::frameHash(pooled) == tools::frameHash(fresh));
+      CHECK(frameHash(pooled) == frameHash(fresh));
       // The A-buffer's fragment lists too, stored into the pool's kept buffer (the other scene's).
       CHECK(pooled.fragmentStart == fresh.fragmentStart);
       REQUIRE(pooled.fragments.size() == fresh.fragments.size());
@@ -65,7 +65,7 @@ TEST_CASE("methods: the span path gives the per-fragment path's bits, every meth
       const FrameResult a = method->render(FrameContext{scene, geometry, scene.width, scene.height, profile, spans});
       const FrameResult b = method->render(FrameContext{scene, geometry, scene.width, scene.height, profile, perFragment});
       INFO(info.name << " " << profile.describe());
-      CHECK(tools::frameHash(a) == tools::frameHash(b));
+      CHECK(frameHash(a) == frameHash(b));
       CHECK(a.fragmentsShaded() == b.fragmentsShaded());
       ++compared;
     }

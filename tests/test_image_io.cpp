@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 
 using namespace oitref;
 
@@ -21,7 +21,7 @@ TEST_CASE("image io: PFM is RGB fp32 with the bottom row first, EXR and PNG read
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 3; ++x) img.store(x, y, {float(x), float(y), 0.5f, 1.0f}, exactProfile());
   const std::string pfm = (dir / "a.pfm").string();
-  tools::writeImage(pfm, img);
+  writeImage(pfm, img);
   std::ifstream in(pfm, std::ios::binary);
   std::string magic, scale;
   int w = 0, h = 0;
@@ -37,15 +37,15 @@ TEST_CASE("image io: PFM is RGB fp32 with the bottom row first, EXR and PNG read
   CHECK(data[3 * 3 + 1] == 1.0f);  // second row from the bottom is y = 1
   // EXR through OIIO: the first scanline of the file is the top row (y = 1).
   const std::string exr = (dir / "a.exr").string();
-  tools::writeImage(exr, img);
+  writeImage(exr, img);
   auto reader = OIIO::ImageInput::open(exr);
   REQUIRE(reader);
   float pixels[24];
   REQUIRE(reader->read_image(0, 0, 0, 4, OIIO::TypeDesc::FLOAT, pixels));
   CHECK(pixels[1] == 1.0f);       // top-left: y = 1
   CHECK(pixels[4 * 3 + 1] == 0.0f);  // bottom-left: y = 0
-  CHECK_THROWS_WITH(tools::writeImage((dir / "b.png").string(), img), Catch::Contains("write it as .exr"));
-  CHECK_THROWS_WITH(tools::writeImage((dir / "c.pfm").string(), Image(makeFormat(FormatId::RGBA16F), 2, 2)),
+  CHECK_THROWS_WITH(writeImage((dir / "b.png").string(), img), Catch::Contains("write it as .exr"));
+  CHECK_THROWS_WITH(writeImage((dir / "c.pfm").string(), Image(makeFormat(FormatId::RGBA16F), 2, 2)),
                     Catch::Contains("PFM holds fp32"));
 }
 
@@ -56,16 +56,16 @@ TEST_CASE("image io: files appear complete under their final name or not at all"
   Image img(makeFormat(FormatId::RGBA8), 4, 4);
   // A write that fails half-way (a 1x1 PNG cannot be written into a missing folder; a PFM of a
   // folder's name cannot replace the folder) leaves neither the final name nor a temporary.
-  CHECK_THROWS_WITH(tools::writeImage((dir / "missing" / "a.png").string(), img), Catch::Contains("missing/a.png"));
+  CHECK_THROWS_WITH(writeImage((dir / "missing" / "a.png").string(), img), Catch::Contains("missing/a.png"));
   std::filesystem::create_directories(dir / "taken.pfm");
   Image f(makeFormat(FormatId::RGBA32F), 2, 2);
-  CHECK_THROWS(tools::writeImage((dir / "taken.pfm").string(), f));
-  CHECK_THROWS(tools::writeTextFile((dir / "taken.pfm").string(), "text"));
+  CHECK_THROWS(writeImage((dir / "taken.pfm").string(), f));
+  CHECK_THROWS(writeTextFile((dir / "taken.pfm").string(), "text"));
   CHECK(std::filesystem::is_directory(dir / "taken.pfm"));
   // Successful writes leave only the final files.
-  tools::writeImage((dir / "a.png").string(), img);
-  tools::writeImage((dir / "a.exr").string(), f);
-  tools::writeTextFile((dir / "manifest.txt").string(), "x 1\n");
+  writeImage((dir / "a.png").string(), img);
+  writeImage((dir / "a.exr").string(), f);
+  writeTextFile((dir / "manifest.txt").string(), "x 1\n");
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
@@ -78,8 +78,8 @@ TEST_CASE("image io: 8- and 16-bit files read back as k / (2^n − 1), correctly
   Image img(makeFormat(FormatId::RGBA8), 256, 1);
   for (int k = 0; k < 256; ++k) std::memset(img.texel(k, 0), k, 4);
   const std::string png = (dir / "ramp.png").string();
-  tools::writeImage(png, img);
-  const tools::ImageFile back = tools::readImage(png);
+  writeImage(png, img);
+  const ImageFile back = readImage(png);
   REQUIRE(back.channels == 4);
   for (int k = 0; k < 256; ++k) {
     INFO("k = " << k);
@@ -96,7 +96,7 @@ TEST_CASE("image io: 8- and 16-bit files read back as k / (2^n − 1), correctly
     REQUIRE(out->write_image(OIIO::TypeDesc::UINT16, ramp.data()));
     out->close();
   }
-  const tools::ImageFile grey = tools::readImage(png16);
+  const ImageFile grey = readImage(png16);
   REQUIRE(grey.channels == 1);
   // f is the correctly rounded k / 65535 when no neighbouring float is nearer; f·65535 is exact
   // in double (24 + 16 bits), so the distances are compared exactly.

@@ -10,7 +10,7 @@
 
 #include "oitref/metrics.h"
 #include "temp_files.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 #include "tools/study.h"
 #include "tools/study_report.h"
 

@@ -10,7 +10,7 @@
 #include "method_fixture.h"
 #include "oitref/scene_geometry.h"
 #include "temp_files.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 
 using namespace oitref;
 
@@ -130,7 +130,7 @@ TEST_CASE("textured scene: textures load beside the model, and bad ones are erro
   Image png(makeFormat(FormatId::RGBA8), 2, 2);
   png.store(0, 1, {1, 0, 0, 1}, exactProfile()), png.store(1, 1, {0, 1, 0, 1}, exactProfile());
   png.store(0, 0, {0, 0, 1, 1}, exactProfile()), png.store(1, 0, {1, 1, 1, 0.5f}, exactProfile());
-  tools::writeImage((dir / "tex.png").string(), png);
+  writeImage((dir / "tex.png").string(), png);
   const std::string quadUv = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
   test::writeFile(dir, "m.mtl", "newmtl a\nmap_Kd tex.png\nnewmtl b\nmap_Kd other.png\n");
   test::writeFile(dir, "textured.obj", "mtllib m.mtl\nusemtl a\n" + quadUv + "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
@@ -206,7 +206,7 @@ TEST_CASE("textured scene: textures load beside the model, and bad ones are erro
         "huge.png': its PNG header declares 16384x16384 with 4 channels of 8 bits, 1073758208 bytes before compression, "
         "which no PNG of 66 bytes can hold");
   // The most a PNG can be compressed still loads: 512x512 zeros (RGBA8: 1,049,088 raw bytes).
-  tools::writeImage((dir / "zeros.png").string(), Image(makeFormat(FormatId::RGBA8), 512, 512));
+  writeImage((dir / "zeros.png").string(), Image(makeFormat(FormatId::RGBA8), 512, 512));
   CHECK(loadScene(scene(R"({"type": "mesh", "file_path": "uv.obj", "texture": "zeros.png"})")).objects[0].texture);
   // 2x2 RGBA8 (tex.png): 16 bytes read, 16 kept: 32 B.
   const std::string small = scene(R"({"type": "mesh", "file_path": "uv.obj", "texture": "tex.png"})");

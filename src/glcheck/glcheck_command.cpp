@@ -15,7 +15,7 @@
 #include "tools/blend_case_generator.h"
 #include "tools/command_line.h"
 #include "tools/commands.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 #include "tools/number_parse.h"
 #include "tools/suite.h"
 
@@ -60,7 +60,7 @@ void writeResults(const std::string& path, const std::vector<tools::BlendCase>& 
     w << tools::blendCaseCsvLine(c) << "," << glDst << "," << glResult << "," << ourDst << "," << ourResult << ","
       << (glDst == ourDst && glResult == ourResult ? "yes" : "no") << "\n";
   }
-  tools::writeTextFile(path, w.str());
+  writeTextFile(path, w.str());
 }
 
 int runBlendCheck(const BlendCheckOptions& o) {
@@ -81,7 +81,7 @@ int runBlendCheck(const BlendCheckOptions& o) {
     std::ostringstream w;
     w << tools::blendCsvHeader(false) << "\n";
     for (const auto& c : cases) w << tools::blendCaseCsvLine(c) << "\n";
-    tools::writeTextFile(o.writeCases, w.str());
+    writeTextFile(o.writeCases, w.str());
   }
   for (const auto& c : cases)
     if (c.format.id == FormatId::Minifloat)

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "glcheck/gl_methods.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 #include "tools/suite.h"
 
 namespace oitref::glcheck {
@@ -144,9 +144,9 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
       printRow(out, row);
       if (!o.heatmaps.empty()) {
         const std::filesystem::path base = std::filesystem::path(o.heatmaps) / (sceneName + "_" + name);
-        tools::writeImage(base.string() + "_gl.png", glPresented);
-        tools::writeImage(base.string() + "_oitref.png", ours.final8);
-        tools::writeImage(base.string() + "_error.png", errorHeatmap(glPresented, ours.final8, kHeatmapScale));
+        writeImage(base.string() + "_gl.png", glPresented);
+        writeImage(base.string() + "_oitref.png", ours.final8);
+        writeImage(base.string() + "_error.png", errorHeatmap(glPresented, ours.final8, kHeatmapScale));
       }
       if (o.timeRuns > 0) row.timing = timeMethod(context, frame, *method, findGlMethod(name), options, o.timeRuns);
       rows.push_back(std::move(row));

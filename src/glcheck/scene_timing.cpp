@@ -132,7 +132,7 @@ MethodTiming timeMethod(const GlContext& context, const FrameContext& frame, Met
   for (int run = 0; run < runs; ++run) {
     FrameResult result;  // emptied before the clock starts, hashed after it stops
     ours.measure([&] { result = method.render(pooled); });
-    const std::string hash = tools::frameHash(result);
+    const std::string hash = frameHash(result);
     std::vector<std::pair<std::string, double>> passes;
     for (const PassReport& p : result.passes) passes.emplace_back(p.name, p.ms);
     ourPasses.add(passes);

@@ -8,7 +8,7 @@
 
 #include "oitref/metrics.h"
 #include "tools/commands.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 #include "tools/number_parse.h"
 
 namespace oitref::tools {

@@ -7,7 +7,7 @@
 
 #include "tools/commands.h"
 #include "tools/demo_scene.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 
 namespace oitref::tools {
 namespace {

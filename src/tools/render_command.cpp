@@ -9,7 +9,7 @@
 
 #include "oitref/method.h"
 #include "tools/commands.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 #include "tools/number_parse.h"
 #include "tools/suite.h"
 
@@ -24,26 +24,25 @@ struct RenderOptions {
 };
 
 int runRender(const RenderOptions& o) {
-  const std::map<std::string, std::string> options = methodOptionsFrom(o.sets);
-  std::unique_ptr<Method> method = makeMethod(o.method, options);
-  const MethodOptions resolved(method->info(), options);
+  FrameRequest request;
+  request.method = o.method;
+  request.options = methodOptionsFrom(o.sets);
+  makeMethod(request.method, request.options);  // a bad method or option refuses before the scene loads
   if (!o.out.empty()) checkImagePath(o.out);  // before the frame: a bad path refuses at once
-  const uint64_t limit = memoryLimitFrom(o.memoryLimit);
-  Scene scene = loadScene(o.scene, limit);
-  if (!o.size.empty()) parseSize(o.size, "--size", scene.width, scene.height);
-  const Profile profile = parseProfile(o.profile);
-  const SceneGeometry geometry = buildSceneGeometry(scene);
-  Renderer renderer(RendererOptions{.threads = o.threads});
-  checkMemory(*method, scene.width, scene.height, geometry, limit);
-  AttachmentPool pool;  // repeated frames reuse their attachments
-  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, limit, &pool};
-  FrameResult result;
+  request.memoryLimit = memoryLimitFrom(o.memoryLimit);
+  Scene loaded = loadScene(o.scene, request.memoryLimit);
+  if (!o.size.empty()) parseSize(o.size, "--size", request.width, request.height);
+  request.profile = parseProfile(o.profile);
+  request.threads = o.threads;
+  FrameRenderer frames(std::move(loaded), request);  // repeated frames reuse their attachments
+  const Scene& scene = frames.scene();
+  const Method* method = &frames.method();
+  const Profile& profile = request.profile;
+  Renderer& renderer = frames.renderer();
+  const MethodOptions resolved(method->info(), request.options);
   std::vector<double> frameMs;
-  for (int i = 0; i < o.repeat; ++i) {
-    pool.recycle(std::move(result));
-    result = method->render(context);
-    frameMs.push_back(result.frameMs());
-  }
+  for (int i = 0; i < o.repeat; ++i) frameMs.push_back(frames.render().frameMs());
+  const FrameResult& result = frames.result();
   std::sort(frameMs.begin(), frameMs.end());
   const double median = frameMs[frameMs.size() / 2];
   if (!o.out.empty()) {

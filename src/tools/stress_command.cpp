@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "tools/commands.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 #include "tools/stress.h"
 #include "tools/stress_report.h"
 

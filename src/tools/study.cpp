@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "oitref/metrics.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 #include "tools/suite.h"
 
 namespace oitref::tools {

@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "tools/commands.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 #include "tools/study.h"
 #include "tools/study_report.h"
 #include "tools/suite.h"

@@ -9,8 +9,7 @@
 #include <stdexcept>
 
 #include "oitref/metrics.h"
-#include "tools/image_io.h"
-#include "util/sha256.h"
+#include "oitref/image_io.h"
 
 namespace oitref::tools {
 namespace fs = std::filesystem;
@@ -76,13 +75,6 @@ std::string formatSuiteTable(const SuiteScene& s) {
     out << line;
   }
   return out.str();
-}
-
-std::string frameHash(const FrameResult& frame) {
-  util::Sha256 sha;
-  sha.update(frame.final8.bytes().data(), frame.final8.bytes().size());
-  sha.update(frame.finalFloat.bytes().data(), frame.finalFloat.bytes().size());
-  return sha.hex();
 }
 
 std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Renderer& renderer, const std::string& dir,

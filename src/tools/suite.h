@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "oitref/frame.h"
 #include "oitref/method.h"
 
 namespace oitref::tools {
@@ -35,9 +36,6 @@ std::string sceneName(const std::string& path);
 SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const Profile& profile, int width, int height,
                          const std::string& outDir, uint64_t memoryLimit);
 std::string formatSuiteTable(const SuiteScene& scene);
-
-// SHA-256 of a frame's raw pixel bits: the final RGBA8 target, then the RGBA32F result.
-std::string frameHash(const FrameResult& frame);
 
 // The golden set: every scene × method at kReferenceWidth × kReferenceHeight.
 inline constexpr int kReferenceWidth = 96, kReferenceHeight = 72;

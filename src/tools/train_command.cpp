@@ -5,7 +5,7 @@
 
 #include "tools/commands.h"
 #include "tools/dfaoit_training.h"
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 
 namespace oitref::tools {
 namespace {

@@ -1,4 +1,4 @@
-#include "tools/image_io.h"
+#include "oitref/image_io.h"
 
 #include <filesystem>
 #include <fstream>
@@ -8,7 +8,7 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
-namespace oitref::tools {
+namespace oitref {
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -186,4 +186,4 @@ ImageFile readImage(const std::string& path) {
   return file;
 }
 
-}  // namespace oitref::tools
+}  // namespace oitref

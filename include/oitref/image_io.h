@@ -12,7 +12,7 @@
 
 #include "oitref/image.h"
 
-namespace oitref::tools {
+namespace oitref {
 
 // Throws std::runtime_error naming the file and the reason: an extension no writer takes (the
 // extension's case does not matter: .PNG is PNG), a format the file type cannot hold, a folder
@@ -36,4 +36,4 @@ ImageFile readImage(const std::string& path);
 // Text files (manifests, CSV results) written the same way: a temporary, then a rename.
 void writeTextFile(const std::string& path, const std::string& text);
 
-}  // namespace oitref::tools
+}  // namespace oitref
