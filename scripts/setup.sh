@@ -10,6 +10,7 @@ cd "$(dirname "$0")/.."
 packages=(build-essential cmake ninja-build libglm-dev libembree-dev libtbb-dev
           libopenimageio-dev openimageio-tools libimath-dev catch2 libcli11-dev
           libassimp-dev nlohmann-json3-dev zlib1g-dev
+          pybind11-dev python3-dev python3-numpy python3-pytest      # import oitref, and its tests
           libegl-dev libgl-dev libegl1 libegl-mesa0 libgl1-mesa-dri  # glcheck: Mesa's llvmpipe
           clang libclang-rt-14-dev                                   # CI: sanitizers, libFuzzer
           chromium fonts-dejavu-core)                                # tests: the study report in a real browser

@@ -30,5 +30,16 @@ if [ -z "$expected" ] || [ "$got" != "$expected" ]; then
   echo "frame: the consumer's hash '$got', reference/manifest.txt '$expected'"; status=1
 fi
 [ -s "$work/glass.png" ] || { echo "the consumer wrote no image"; status=1; }
+# The Python module, where this build has one: imported from the prefix alone.
+module=$(find "$work/prefix" -name 'oitref*.so' | head -1)
+if [ -n "$module" ]; then
+  got=$(cd "$work" && PYTHONPATH="$(dirname "$module")" /usr/bin/python3 -c "import oitref
+print(oitref.render('$source/scenes/glass.json', 'wboit', size=(96, 72), threads=2)['sha256'])")
+  if [ "$got" != "$expected" ]; then
+    echo "the installed Python module's frame hash '$got', reference/manifest.txt '$expected'"; status=1
+  else
+    echo "the installed Python module ($module) gave the manifest's hash"
+  fi
+fi
 [ "$status" -eq 0 ] && echo "the installed package built the consumer, and it gave the CLI's and the manifest's bits"
 exit "$status"

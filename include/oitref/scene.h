@@ -120,7 +120,11 @@ struct Scene {
 // (e.g. "objects[2].color_override[3]") and what was expected.
 // `memoryLimit` (--memory-limit) bounds what a mesh file's header may declare (loadMesh).
 Scene loadScene(const std::string& path, uint64_t memoryLimit = UINT64_MAX);
-// Parses scene JSON text; `path` names it in errors and anchors relative mesh paths.
+// The same from the scene's JSON text: `path` names it in errors and anchors relative mesh and
+// texture paths (it need not exist).
+Scene loadSceneText(const std::string& jsonText, const std::string& path, uint64_t memoryLimit = UINT64_MAX);
+// Parses scene JSON text alone — no mesh or texture is read (loadSceneText reads them); `path`
+// names it in errors and anchors relative mesh paths.
 Scene parseScene(const std::string& jsonText, const std::string& path);
 // Loads a mesh through Assimp (OBJ, PLY ascii/binary with vertex colours, FBX, glTF, ...), in a
 // child process that may take at most `timeoutSeconds`: a malformed file is a SceneError, even

@@ -35,7 +35,7 @@ struct MethodTiming {
   // oitref's passes as PassReport times them (steady clock around each pass); GL's by timer queries
   // (GL_TIME_ELAPSED, the driver's clock): GL's kinds are opaque, transparent, full-screen, composite.
   std::vector<PassTiming> oitrefPasses, glPasses;
-  std::string sha256;  // of oitref's frame (tools::frameHash), equal in every run or it throws
+  std::string sha256;  // of oitref's frame (frameHash, oitref/frame.h), equal in every run or it throws
   double compositeTrafficBytes = 0;
 };
 

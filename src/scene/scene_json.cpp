@@ -223,7 +223,11 @@ Scene loadScene(const std::string& path, uint64_t memoryLimit) {
   if (!in) throw SceneError(path + ": cannot read the scene file");
   std::ostringstream text;
   text << in.rdbuf();
-  Scene s = parseScene(text.str(), path);
+  return loadSceneText(text.str(), path, memoryLimit);
+}
+
+Scene loadSceneText(const std::string& jsonText, const std::string& path, uint64_t memoryLimit) {
+  Scene s = parseScene(jsonText, path);
   // Each file is imported once, however many objects use it (a scene of 250 quads is one import).
   std::map<std::string, TriangleMesh> loaded;
   std::map<std::pair<std::string, TextureFormat>, std::shared_ptr<const Texture2D>> textures;  // likewise
