@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace oitref {
@@ -28,7 +29,17 @@ struct FrameStats {
   // Sorted OVER: the transparent triangles sorted.
   std::optional<uint64_t> sortedTriangles;
 
-  // The figures that are set, as (name, value) in a fixed order: what `oitref render` prints.
+  // One figure that is set: its key (snake case, as in JSON and Python), its printed name, and
+  // its value.
+  struct Entry {
+    const char* key;
+    const char* name;
+    std::variant<uint64_t, int64_t, double, bool, std::string> value;
+    std::string text() const;  // the value as `oitref render` prints it
+  };
+  // The figures that are set, in a fixed order.
+  std::vector<Entry> entries() const;
+  // The same as (name, text) lines: what `oitref render` prints.
   std::vector<std::pair<std::string, std::string>> lines() const;
   bool operator==(const FrameStats&) const = default;
 };

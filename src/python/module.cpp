@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <variant>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -146,20 +147,7 @@ Bytes imageBits(const Image& image) {
 
 py::dict statsDict(const FrameStats& s) {
   py::dict d;
-  auto put = [&](const char* key, const auto& v) {
-    if (v) d[key] = *v;
-  };
-  put("fragments", s.fragments);
-  put("depth_complexity_max", s.depthComplexityMax);
-  put("depth_complexity_mean", s.depthComplexityMean);
-  put("pixels_with_transparency", s.pixelsWithTransparency);
-  put("fragment_storage_bytes", s.fragmentStorageBytes);
-  put("peeling_passes", s.peelingPasses);
-  put("layers_peeled", s.layersPeeled);
-  put("all_layers_peeled", s.allLayersPeeled);
-  if (!s.layersLeftBecause.empty()) d["layers_left_because"] = s.layersLeftBecause;
-  put("moment_fallbacks", s.momentFallbacks);
-  put("sorted_triangles", s.sortedTriangles);
+  for (const FrameStats::Entry& e : s.entries()) std::visit([&](const auto& v) { d[e.key] = v; }, e.value);
   return d;
 }
 

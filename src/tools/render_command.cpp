@@ -64,7 +64,16 @@ int runRender(const RenderOptions& o) {
     for (size_t i = 0; i < result.passes.size(); ++i)
       std::printf("%s{\"name\": %s, \"ms\": %.4f, \"fragments\": %llu}", i ? ", " : "", jsonString(result.passes[i].name).c_str(),
                   result.passes[i].ms, (unsigned long long)result.passes[i].stats.fragmentsShaded);
-    std::printf("], \"frame_ms\": %.4f, \"bytes_per_pixel\": %d, \"fragments\": %llu, \"sha256\": %s}\n", median,
+    std::printf("], \"stats\": {");
+    first = true;
+    for (const FrameStats::Entry& e : result.stats.entries()) {
+      std::string value = e.text();
+      if (std::holds_alternative<std::string>(e.value)) value = jsonString(value);
+      else if (std::holds_alternative<bool>(e.value)) value = std::get<bool>(e.value) ? "true" : "false";
+      else if (std::holds_alternative<double>(e.value)) value = jsonNumber(std::get<double>(e.value));
+      std::printf("%s%s: %s", first ? "" : ", ", jsonString(e.key).c_str(), value.c_str()), first = false;
+    }
+    std::printf("}, \"frame_ms\": %.4f, \"bytes_per_pixel\": %d, \"fragments\": %llu, \"sha256\": %s}\n", median,
                 method->bytesPerPixel(), (unsigned long long)result.fragmentsShaded(), jsonString(frameHash(result)).c_str());
     return 0;
   }

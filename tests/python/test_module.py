@@ -143,3 +143,17 @@ def test_bad_input_raises_value_errors_that_say_what():
         scene = json.load(f)
     with pytest.raises(RuntimeError, match=r"objects\[0\]\.file_path"):  # its meshes are not in this folder
         oitref.render(scene, folder=os.path.join(SOURCE, "reference"))
+
+
+@pytest.mark.parametrize("method,options", [("peel", {"passes": "2"}), ("abuffer", {}), ("mboit", {})])
+def test_the_command_lines_json_reports_the_same_frame(method, options):
+    path = os.path.join(SOURCE, "scenes", "squares.json")
+    args = [CLI, "render", path, "--method", method, "--size", "96x72", "--threads", "1", "--json"]
+    for key, value in options.items():
+        args += ["--set", "%s=%s" % (key, value)]
+    cli = json.loads(subprocess.run(args, check=True, capture_output=True, text=True).stdout)
+    frame = oitref.render(path, method, options, size=(96, 72), threads=1)
+    assert cli["sha256"] == frame["sha256"]
+    assert cli["stats"].keys() == frame["stats"].keys()
+    for key, value in frame["stats"].items():
+        assert cli["stats"][key] == (pytest.approx(value, rel=1e-8) if isinstance(value, float) else value), key
