@@ -26,6 +26,17 @@ StudyRow row(const std::string& method, double ms, double rmse) {
   return r;
 }
 
+// A study of the squares scene at 64×48 into a fresh folder.
+StudyOptions squaresStudy(const std::string& folder, int runs, std::vector<std::string> methods) {
+  StudyOptions o;
+  o.scenes = {OITREF_SOURCE_DIR "/scenes/squares.json"};
+  o.outDir = test::tempFolder(folder).string();
+  o.width = 64, o.height = 48;
+  o.runs = runs;
+  o.methods = std::move(methods);
+  return o;
+}
+
 }  // namespace
 
 TEST_CASE("Study: the Pareto front by hand", "[study]") {
@@ -42,13 +53,8 @@ TEST_CASE("Study: the Pareto front by hand", "[study]") {
 }
 
 TEST_CASE("Study: every row's numbers are those of its own render against the A-buffer", "[study]") {
-  const std::filesystem::path out = test::tempFolder("oitref_study_test");
-  StudyOptions o;
-  o.scenes = {OITREF_SOURCE_DIR "/scenes/squares.json"};
-  o.outDir = out.string();
-  o.width = 64, o.height = 48;
-  o.runs = 2;
-  o.methods = {"wboit", "peel"};
+  const StudyOptions o = squaresStudy("oitref_study_test", 2, {"wboit", "peel"});
+  const std::filesystem::path out = o.outDir;
   Renderer renderer(RendererOptions{2, 64});
   int calls = 0, lastTotal = 0;
   const StudyResult result = runStudy(o, renderer, [&](const std::string&, int i, int n) {
@@ -120,13 +126,7 @@ TEST_CASE("Study: every row's numbers are those of its own render against the A-
 }
 
 TEST_CASE("Study: the peeling rows say how far they peeled, dual peeling's too", "[study]") {
-  const std::filesystem::path out = test::tempFolder("oitref_study_peeling_test");
-  StudyOptions o;
-  o.scenes = {OITREF_SOURCE_DIR "/scenes/squares.json"};
-  o.outDir = out.string();
-  o.width = 64, o.height = 48;
-  o.runs = 1;
-  o.methods = {"peel", "dualpeel"};
+  const StudyOptions o = squaresStudy("oitref_study_peeling_test", 1, {"peel", "dualpeel"});
   Renderer renderer(RendererOptions{2, 64});
   const StudyResult result = runStudy(o, renderer, [](const std::string&, int, int) {});
   REQUIRE(result.scenes.size() == 1);
