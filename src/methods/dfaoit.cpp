@@ -21,7 +21,7 @@ namespace {
 
 constexpr float kEmptySlot = 2.0f;  // a near-depth slot's clear value: behind every window depth
 
-class Dfaoit final : public Method {
+class Dfaoit final : public OpaqueFirstMethod {
  public:
   explicit Dfaoit(const MethodOptions& o) : format_(o.text("accum")) {}
   const MethodInfo& info() const override { return dfaoitInfo(); }
@@ -36,11 +36,7 @@ class Dfaoit final : public Method {
     a.push_back(colorAttachment("count", "r32f", "n, ONE, ONE"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const Profile& profile = context.profile;
     Image* depth[2] = {&t.color("near_depth_0"), &t.color("near_depth_1")};
     Image* color[2] = {&t.color("near_color_0"), &t.color("near_color_1")};
@@ -93,8 +89,6 @@ class Dfaoit final : public Method {
       for (int target = 0; target < 2; ++target) out[target] = transparent + c0[target] * p.a;
       return true;
     });
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

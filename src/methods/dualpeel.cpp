@@ -65,7 +65,7 @@ void peel(float z, const glm::vec4& c, const glm::vec4& range, const glm::vec4& 
   out.writeIf(i, 2, isFarthest ? c : glm::vec4(0.0f), isFarthest || writes.backZero);
 }
 
-class Dualpeel final : public Method {
+class Dualpeel final : public OpaqueFirstMethod {
  public:
   explicit Dualpeel(const MethodOptions& o)
       : passes_(int(o.number("passes"))), colorFormat_(o.text("color")), allOutputs_(o.text("outputs") == "all") {}
@@ -79,11 +79,7 @@ class Dualpeel final : public Method {
     a.push_back(colorAttachment("back", colorFormat_, "this pass's back layer (c, α)"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {
     const Profile& profile = context.profile;
     Image* depth[2] = {&t.color("depth_a"), &t.color("depth_b")};
     Image* front[2] = {&t.color("front_a"), &t.color("front_b")};
@@ -169,8 +165,6 @@ class Dualpeel final : public Method {
     else if (layersLeft)
       result.stats.layersLeftBecause =
           "a pass peeled only fully transparent back layers, which the occlusion query counts as nothing";
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

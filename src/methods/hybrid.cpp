@@ -22,7 +22,7 @@ namespace {
 
 constexpr float kEmpty = 2.0f;  // a core depth slot's clear value: behind every window depth
 
-class Hybrid final : public Method {
+class Hybrid final : public OpaqueFirstMethod {
  public:
   explicit Hybrid(const MethodOptions& o) : k_(int(o.number("k"))), coreFormat_(o.text("core")), tailFormat_(o.text("tail")) {}
   const MethodInfo& info() const override { return hybridInfo(); }
@@ -36,11 +36,7 @@ class Hybrid final : public Method {
     a.push_back(colorAttachment("tail_count", singleChannelFormat(tailFormat_), "n of the tail, blended ONE, ONE"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const int k = k_;
     std::vector<Image*> depth(static_cast<size_t>(k)), color(static_cast<size_t>(k));
     for (int i = 0; i < k; ++i) {
@@ -97,8 +93,6 @@ class Hybrid final : public Method {
       }
       return true;
     });
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

@@ -63,7 +63,7 @@ void normaliseFourMoments(const glm::vec4* texels, const int* used, const float*
   }
 }
 
-class Mboit final : public Method {
+class Mboit final : public OpaqueFirstMethod {
  public:
   explicit Mboit(const MethodOptions& o)
       : set_(MomentSet::parse(o.text("moments"))), quantised_(o.text("storage") == "unorm16"),
@@ -89,11 +89,7 @@ class Mboit final : public Method {
     a.push_back(colorAttachment("reveal", "r32f", "Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {
     const Profile& profile = context.profile;
     Image& b0Image = t.color("b0");
     Image* momentImages[2] = {&t.color("moments"), set_.reals() > 4 ? &t.color("moments_more") : nullptr};
@@ -297,9 +293,7 @@ class Mboit final : public Method {
     }
 
     compositeWeighted(run, t, accum, reveal, clamp_);  // as WBOIT
-    t.finish(result, "opaque");
     result.stats.momentFallbacks = fallbacks.load();
-    return result;
   }
 
  private:

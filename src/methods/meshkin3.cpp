@@ -21,7 +21,7 @@
 namespace oitref::methods {
 namespace {
 
-class Meshkin3 final : public Method {
+class Meshkin3 final : public OpaqueFirstMethod {
  public:
   explicit Meshkin3(const MethodOptions& o) : format_(o.text("format")) {}
   const MethodInfo& info() const override { return meshkin3Info(); }
@@ -32,11 +32,7 @@ class Meshkin3 final : public Method {
     a.push_back(colorAttachment("t3", format_, "Π(c, α), blended ZERO, SRC_COLOR"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const Profile& profile = context.profile;
     Image& t1 = t.color("t1");
     Image& t2 = t.color("t2");
@@ -67,8 +63,6 @@ class Meshkin3 final : public Method {
         out[k] = glm::vec3(s1) - bg[k] * s1.a + bg[k] * s3.a + bg[k] * glm::vec3(s2) * s3.a;
       return true;
     });
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

@@ -215,6 +215,28 @@ class PassRunner {
   std::vector<std::unique_ptr<Geometry>> clipGeometry_;  // per part of context_.geometry, on first use
 };
 
+// The frame most methods draw: their attachments (from the pool, or new), the opaque pass (the
+// background cleared, the opaque objects drawn with depth test LESS), then the method's own
+// passes in drawAfterOpaque, and the frame presented from "opaque" with every attachment in the
+// result. A method whose frame starts otherwise (the A-buffer refuses some frames before
+// anything is allocated) derives from Method itself.
+class OpaqueFirstMethod : public Method {
+ public:
+  FrameResult render(const FrameContext& context) final {
+    FrameResult result;
+    FrameTargets targets(attachments(), context);
+    PassRunner run(context, result);
+    run.opaquePass(targets);
+    drawAfterOpaque(context, run, targets, result);
+    targets.finish(result, "opaque");
+    return result;
+  }
+
+ protected:
+  // The method's passes; `result` is for its stats (the passes' reports are kept by `run`).
+  virtual void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) = 0;
+};
+
 // The one-channel format with the same encoding as an RGBA one: "rgba16f" → "r16f",
 // "rgba:e8m7" → "r:e8m7" (a count or revealage beside an accumulation target).
 inline std::string singleChannelFormat(const std::string& rgbaFormat) { return "r" + rgbaFormat.substr(4); }

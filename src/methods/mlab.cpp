@@ -20,7 +20,7 @@ namespace {
 
 constexpr float kEmptyNode = 2.0f;  // a node depth's clear value: behind every window depth
 
-class LayeredNodes final : public Method {
+class LayeredNodes final : public OpaqueFirstMethod {
  public:
   LayeredNodes(const MethodOptions& o, bool merge)
       : k_(int(o.number("k"))), nodeFormat_(o.text("node")), merge_(merge) {}
@@ -34,11 +34,7 @@ class LayeredNodes final : public Method {
                                   "premultiplied colour and transmittance of node " + std::to_string(i)));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const int k = k_;
     const bool merge = merge_;
     const Profile& profile = context.profile;
@@ -88,8 +84,6 @@ class LayeredNodes final : public Method {
       for (int target = 0; target < 2; ++target) out[target] = sum + c0[target] * transmittance;
       return true;
     });
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

@@ -20,7 +20,7 @@
 namespace oitref::methods {
 namespace {
 
-class Mt final : public Method {
+class Mt final : public OpaqueFirstMethod {
  public:
   explicit Mt(const MethodOptions& o) : bias_(float(o.number("bias"))), accumFormat_(o.text("accum")) {}
   const MethodInfo& info() const override { return mtInfo(); }
@@ -32,11 +32,7 @@ class Mt final : public Method {
     a.push_back(colorAttachment("reveal", "r32f", "Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {
     const Profile& profile = context.profile;
     Image& opticalDepth = t.color("optical_depth");
     Image& moments = t.color("moments");
@@ -107,9 +103,7 @@ class Mt final : public Method {
     });
 
     compositeWeighted(run, t, accum, reveal);
-    t.finish(result, "opaque");
     result.stats.momentFallbacks = fallbacks.load();
-    return result;
   }
 
  private:

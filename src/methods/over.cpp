@@ -10,16 +10,12 @@
 namespace oitref::methods {
 namespace {
 
-class Over final : public Method {
+class Over final : public OpaqueFirstMethod {
  public:
   explicit Over(const MethodOptions& o) : faces_(o.text("faces")) {}
   const MethodInfo& info() const override { return overInfo(); }
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets targets(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(targets);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& targets, FrameResult& /*result*/) override {
     Framebuffer fb = targets.present(true);
     for (const auto& [name, cull] : overDraws(faces_)) {
       PipelineState st = transparentState(context.profile, overBlend());
@@ -29,8 +25,6 @@ class Over final : public Method {
         out.write(1, c);
       });
     }
-    targets.finish(result, "opaque");
-    return result;
   }
 
  private:

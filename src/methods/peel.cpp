@@ -14,7 +14,7 @@
 namespace oitref::methods {
 namespace {
 
-class Peel final : public Method {
+class Peel final : public OpaqueFirstMethod {
  public:
   explicit Peel(const MethodOptions& o) : passes_(int(o.number("passes"))), layerFormat_(o.text("layer")) {}
   const MethodInfo& info() const override { return peelInfo(); }
@@ -26,17 +26,13 @@ class Peel final : public Method {
     a.push_back(colorAttachment("accum", layerFormat_, "C3: layers so far, front to back; alpha = transmittance"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {  // after steps 2–3, the opaque pass
     Image& layer = t.color("layer");
     Image& accum = t.color("accum");
     DepthBuffer& layerDepth = t.depth("layer_depth");
     DepthBuffer& peeledDepth = t.depth("peeled_depth");
     accum.clear({0, 0, 0, 1}, context.profile);                    // step 1
     peeledDepth.clear(0.0);
-    run.opaquePass(t);                                              // steps 2–3
     Framebuffer layerFb;
     layerFb.color[0] = &layer;
     layerFb.depth = &layerDepth;
@@ -95,8 +91,6 @@ class Peel final : public Method {
     result.stats.layersPeeled = peeledPasses;
     result.stats.allLayersPeeled = exhausted;
     if (!exhausted) result.stats.layersLeftBecause = "raise passes";
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

@@ -28,16 +28,12 @@ uint32_t bayerIndex(int n, int x, int y) {
 
 namespace {
 
-class Screendoor final : public Method {
+class Screendoor final : public OpaqueFirstMethod {
  public:
   explicit Screendoor(const MethodOptions& o) : n_(int(o.number("mask"))) {}
   const MethodInfo& info() const override { return screendoorInfo(); }
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     Framebuffer fb = t.present(/*withDepth=*/true);
     PipelineState solid;
     solid.profile = context.profile;
@@ -52,8 +48,6 @@ class Screendoor final : public Method {
                           out.write(1, glm::vec4(glm::vec3(c), 1.0f));
                         },
                         /*mayDiscard=*/true, /*pure=*/true);
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

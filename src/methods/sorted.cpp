@@ -19,16 +19,12 @@ struct Triangle {
 
 double viewDepth(const glm::mat4& view, glm::dvec3 p) { return -(glm::dmat4(view) * glm::dvec4(p, 1.0)).z; }
 
-class Sorted final : public Method {
+class Sorted final : public OpaqueFirstMethod {
  public:
   explicit Sorted(const MethodOptions& o) : byTriangle_(o.text("sort") == "triangle") {}
   const MethodInfo& info() const override { return sortedInfo(); }
   std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets targets(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(targets);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& targets, FrameResult& result) override {
     const glm::mat4 view = context.scene.camera.view();
     std::vector<Triangle> order;
     for (size_t p = 0; p < context.geometry.parts.size(); ++p) {
@@ -83,8 +79,6 @@ class Sorted final : public Method {
     report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     result.passes.push_back(report);
     result.stats.sortedTriangles = order.size();
-    targets.finish(result, "opaque");
-    return result;
   }
 
  private:

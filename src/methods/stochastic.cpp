@@ -48,7 +48,7 @@ uint32_t stochasticMask(uint32_t seed, int x, int y, uint32_t object, uint32_t p
 
 namespace {
 
-class Stochastic final : public Method {
+class Stochastic final : public OpaqueFirstMethod {
  public:
   explicit Stochastic(const MethodOptions& o)
       : samples_(int(o.number("samples"))), seed_(uint32_t(o.number("seed"))), accumFormat_(o.text("accum")) {}
@@ -61,11 +61,7 @@ class Stochastic final : public Method {
     a.push_back(colorAttachment("reveal", singleChannelFormat(accumFormat_), "Π(1 − α), ZERO, ONE_MINUS_SRC_COLOR"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const int samples = samples_;
     const uint32_t seed = seed_;
     std::vector<DepthBuffer*> sampleDepth;
@@ -106,8 +102,6 @@ class Stochastic final : public Method {
       out.write(1, glm::vec4(c.a));
     });
     compositeWeighted(run, t, accum, reveal);
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

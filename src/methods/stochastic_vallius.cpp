@@ -33,7 +33,7 @@ float valliusRandom(uint32_t seed, int x, int y, int sample, uint32_t object, ui
   return float(util::splitMix64(state) >> 40) * 0x1p-24f;
 }
 
-class StochasticVallius final : public Method {
+class StochasticVallius final : public OpaqueFirstMethod {
  public:
   explicit StochasticVallius(const MethodOptions& o)
       : samples_(int(o.number("samples"))), seed_(uint32_t(o.number("seed"))), format_(o.text("accum")) {}
@@ -45,11 +45,7 @@ class StochasticVallius final : public Method {
     a.push_back(depthAttachment("sample_depth", "transparentObjects' own depth, cleared before each pass"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);                                                                // step 1
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {  // after step 1, the opaque pass
     Image& total = t.color("total");
     Image& samples = t.color("samples");
     DepthBuffer& sampleDepth = t.depth("sample_depth");
@@ -85,8 +81,6 @@ class StochasticVallius final : public Method {
       for (int k = 0; k < 2; ++k) out[k] = background[k] * alphaCorrection + transparent * (1.0f - alphaCorrection);
       return true;
     });
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

@@ -17,7 +17,7 @@
 namespace oitref::methods {
 namespace {
 
-class Wavg final : public Method {
+class Wavg final : public OpaqueFirstMethod {
  public:
   explicit Wavg(const MethodOptions& o)
       : accumFormat_(o.text("accum")), thesis_(o.text("transmittance") == "thesis_eq2.2"),
@@ -29,11 +29,7 @@ class Wavg final : public Method {
     a.push_back(colorAttachment("count", singleChannelFormat(accumFormat_), "C2s: n, blended ONE, ONE"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);                                              // steps 1–3
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {  // after steps 1–3, the opaque pass
     Image& accum = t.color("accum");
     Image& count = t.color("count");
     accum.clear(glm::vec4(0.0f), context.profile);                  // step 4
@@ -58,8 +54,6 @@ class Wavg final : public Method {
       if (thesis) s.a = powInt(a.a / n, unsigned(n));  // eq. 2.2 as printed: (Σα/n)^n
       return true;
     });
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:

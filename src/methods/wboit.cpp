@@ -85,7 +85,7 @@ float weight(Weight kind, float alpha, float windowZ, float viewZ) {
   return withWeight(kind, [&](auto w) { return w(alpha, windowZ, viewZ); });
 }
 
-class Wboit final : public Method {
+class Wboit final : public OpaqueFirstMethod {
  public:
   explicit Wboit(const MethodOptions& o)
       : accumFormat_(o.text("accum")), revealFormat_(o.text("reveal")), weight_(parseWeight(o.text("weight"))),
@@ -109,15 +109,10 @@ class Wboit final : public Method {
     a.push_back(colorAttachment("reveal", revealFormat_, "C2s: Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
     return a;
   }
-  FrameResult render(const FrameContext& context) override {
-    FrameResult result;
-    FrameTargets t(attachments(), context);
-    PassRunner run(context, result);
-    run.opaquePass(t);                                               // steps 1–3
+  void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {  // after steps 1–3, the opaque pass
     if (single_) {
       accumulateSingle(context, t, run);
-      t.finish(result, "opaque");
-      return result;
+      return;
     }
     Image& accum = t.color("accum");
     Image& reveal = t.color("reveal");
@@ -141,8 +136,6 @@ class Wboit final : public Method {
     });
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
     compositeWeighted(run, t, accum, reveal, clamp_);
-    t.finish(result, "opaque");
-    return result;
   }
 
  private:
