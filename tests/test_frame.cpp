@@ -69,6 +69,9 @@ TEST_CASE("FrameRenderer: bad requests are refused before anything is drawn", "[
   r = at96x72("wboit", 1);
   r.height = 0;
   CHECK_THROWS_WITH(FrameRenderer(s, r), Catch::Contains("give both sides"));
+  r = at96x72("wboit", 1);
+  r.width = 16385;
+  CHECK_THROWS_WITH(FrameRenderer(s, r), Catch::Contains("at most 16384"));
   r = at96x72("abuffer", 1);
   r.memoryLimit = 1000;
   CHECK_THROWS_AS(FrameRenderer(s, r), std::runtime_error);

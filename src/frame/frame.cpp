@@ -10,9 +10,11 @@ namespace oitref {
 namespace {
 
 Scene sized(Scene scene, const FrameRequest& r) {
+  const std::string size = std::to_string(r.width) + "x" + std::to_string(r.height);
   if (r.width < 0 || r.height < 0 || (r.width == 0) != (r.height == 0))
-    throw std::invalid_argument("frame size " + std::to_string(r.width) + "x" + std::to_string(r.height) +
-                                ": give both sides, or neither for the scene's own size");
+    throw std::invalid_argument("frame size " + size + ": give both sides, or neither for the scene's own size");
+  if (r.width > Image::kMaxDimension || r.height > Image::kMaxDimension)  // as a scene's resolution and --size
+    throw std::invalid_argument("frame size " + size + ": each side at most " + std::to_string(Image::kMaxDimension));
   if (r.width > 0) scene.width = r.width, scene.height = r.height;
   return scene;
 }

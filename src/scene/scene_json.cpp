@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "oitref/image.h"
 #include "oitref/scene.h"
 #include "oitref/scene_geometry.h"
 #include "scene/colour_rule.h"
@@ -205,8 +206,8 @@ Scene parseScene(const std::string& jsonText, const std::string& path) {
   if (j.contains("resolution")) {
     const json& res = j["resolution"];
     if (!res.is_array() || res.size() != 2) r.fail("resolution", "expected [width, height]");
-    s.width = r.integer(res[0], "resolution[0]", 1, 16384);
-    s.height = r.integer(res[1], "resolution[1]", 1, 16384);
+    s.width = r.integer(res[0], "resolution[0]", 1, Image::kMaxDimension);
+    s.height = r.integer(res[1], "resolution[1]", 1, Image::kMaxDimension);
   }
   if (j.contains("camera")) s.camera = readCamera(r, j["camera"]);
   if (!j.contains("objects") || !j["objects"].is_array()) r.fail("objects", "expected an array of objects");
