@@ -47,5 +47,10 @@ const char* toString(BlendFactor f);
 // Throw std::invalid_argument listing the valid names.
 BlendEquation parseBlendEquation(const std::string& name);
 BlendFactor parseBlendFactor(const std::string& name);
+// An enabled state from the CLI's two texts: `equation` "EQ" or "EQ_RGB,EQ_ALPHA", `func` "SRC,DST"
+// or "SRC_RGB,DST_RGB,SRC_ALPHA,DST_ALPHA". Throws std::invalid_argument naming the text as
+// `equationName` or `funcName` (e.g. "--equation") when it has the wrong number of names.
+BlendState parseBlendState(const std::string& equation, const std::string& func,
+                           const std::string& equationName = "equation", const std::string& funcName = "func");
 
 }  // namespace oitref

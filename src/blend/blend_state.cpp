@@ -1,6 +1,8 @@
 #include "oitref/blend_state.h"
 
+#include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace oitref {
 namespace {
@@ -29,6 +31,32 @@ BlendEquation parseBlendEquation(const std::string& name) {
   return parseName<BlendEquation>(kEquationNames, name, "equation");
 }
 BlendFactor parseBlendFactor(const std::string& name) { return parseName<BlendFactor>(kFactorNames, name, "factor"); }
+
+BlendState parseBlendState(const std::string& equation, const std::string& func, const std::string& equationName,
+                           const std::string& funcName) {
+  auto splitComma = [](const std::string& s) {
+    std::vector<std::string> parts;
+    std::istringstream in(s);
+    std::string p;
+    while (std::getline(in, p, ',')) parts.push_back(p);
+    return parts;
+  };
+  const auto eq = splitComma(equation);
+  if (eq.size() != 1 && eq.size() != 2)
+    throw std::invalid_argument(equationName + ": expected EQ or EQ_RGB,EQ_ALPHA, got '" + equation + "'");
+  const auto fn = splitComma(func);
+  if (fn.size() != 2 && fn.size() != 4)
+    throw std::invalid_argument(funcName + ": expected SRC,DST or SRC_RGB,DST_RGB,SRC_ALPHA,DST_ALPHA, got '" + func + "'");
+  BlendState state;
+  state.enabled = true;
+  state.equationRgb = parseBlendEquation(eq[0]);
+  state.equationAlpha = parseBlendEquation(eq.back());
+  state.srcRgb = parseBlendFactor(fn[0]);
+  state.dstRgb = parseBlendFactor(fn[1]);
+  state.srcAlpha = parseBlendFactor(fn[fn.size() == 4 ? 2 : 0]);
+  state.dstAlpha = parseBlendFactor(fn[fn.size() == 4 ? 3 : 1]);
+  return state;
+}
 
 std::string BlendState::describe() const {
   std::string mask;

@@ -83,31 +83,13 @@ Floats decode(const std::string& format, Bytes bits) {
   return out;
 }
 
-BlendState parseState(const std::string& equation, const std::string& func) {
-  auto split = [](const std::string& s) {
-    std::vector<std::string> parts;
-    size_t start = 0;
-    for (size_t comma; (comma = s.find(',', start)) != std::string::npos; start = comma + 1) parts.push_back(s.substr(start, comma - start));
-    parts.push_back(s.substr(start));
-    return parts;
-  };
-  const std::vector<std::string> e = split(equation), f = split(func);
-  if (e.size() != 1 && e.size() != 2) throw std::invalid_argument("equation '" + equation + "': EQ or EQ_RGB,EQ_ALPHA");
-  if (f.size() != 2 && f.size() != 4) throw std::invalid_argument("func '" + func + "': SRC,DST or SRC_RGB,DST_RGB,SRC_ALPHA,DST_ALPHA");
-  const BlendEquation rgb = parseBlendEquation(e[0]), alpha = parseBlendEquation(e.back());
-  return f.size() == 2 ? BlendState::separate(rgb, alpha, parseBlendFactor(f[0]), parseBlendFactor(f[1]), parseBlendFactor(f[0]),
-                                              parseBlendFactor(f[1]))
-                       : BlendState::separate(rgb, alpha, parseBlendFactor(f[0]), parseBlendFactor(f[1]), parseBlendFactor(f[2]),
-                                              parseBlendFactor(f[3]));
-}
-
 // `oitref blend` over arrays: each destination stored first (converted to the format), then
 // the source blended into it. Returns the stored bits and their values.
 py::tuple blend(const std::string& format, Floats source, Floats destination, const std::string& equation,
                 const std::string& func, std::vector<float> constant, const std::string& profile) {
   const Format f = parseFormat(format);
   const Profile p = parseProfile(profile);
-  const BlendState state = parseState(equation, func);
+  const BlendState state = parseBlendState(equation, func);
   if (constant.size() != 4) throw std::invalid_argument("constant: four values r, g, b, a");
   const std::vector<py::ssize_t> shape = leadingShape(source, 4, "source");
   if (leadingShape(destination, 4, "destination") != shape) throw std::invalid_argument("source and destination differ in shape");

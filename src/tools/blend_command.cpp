@@ -21,14 +21,6 @@ struct BlendOptions {
   size_t list = 20;
 };
 
-std::vector<std::string> splitComma(const std::string& s) {
-  std::vector<std::string> parts;
-  std::istringstream in(s);
-  std::string p;
-  while (std::getline(in, p, ',')) parts.push_back(p);
-  return parts;
-}
-
 std::string valuesText(const glm::vec4& v, int channels) {
   std::string hex, dec;
   char buf[40];
@@ -43,19 +35,7 @@ std::string valuesText(const glm::vec4& v, int channels) {
 BlendCase caseFromOptions(const BlendOptions& o) {
   BlendCase c;
   c.format = parseFormat(o.format);
-  const auto eq = splitComma(o.equation);
-  if (eq.size() != 1 && eq.size() != 2)
-    throw std::invalid_argument("--equation: expected EQ or EQ_RGB,EQ_ALPHA, got '" + o.equation + "'");
-  const auto fn = splitComma(o.func);
-  if (fn.size() != 2 && fn.size() != 4)
-    throw std::invalid_argument("--func: expected SRC,DST or SRC_RGB,DST_RGB,SRC_ALPHA,DST_ALPHA, got '" + o.func + "'");
-  c.state.enabled = true;
-  c.state.equationRgb = parseBlendEquation(eq[0]);
-  c.state.equationAlpha = parseBlendEquation(eq.back());
-  c.state.srcRgb = parseBlendFactor(fn[0]);
-  c.state.dstRgb = parseBlendFactor(fn[1]);
-  c.state.srcAlpha = parseBlendFactor(fn[fn.size() == 4 ? 2 : 0]);
-  c.state.dstAlpha = parseBlendFactor(fn[fn.size() == 4 ? 3 : 1]);
+  c.state = parseBlendState(o.equation, o.func, "--equation", "--func");
   c.constant = parseVec4(o.constant, "--constant");
   c.destination = parseVec4(o.dst, "--dst");
   c.source = parseVec4(o.src, "--src");
