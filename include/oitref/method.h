@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -65,6 +66,9 @@ struct MethodPreset {
   std::map<std::string, std::string> values;
 };
 
+// Option values by key, as given: {{"accum", "rgba16f"}}; {} is a method's defaults.
+using OptionValues = std::map<std::string, std::string>;
+
 struct MethodInfo {
   std::string name, summary;
   std::vector<MethodOption> options;
@@ -72,6 +76,12 @@ struct MethodInfo {
   // When not empty: the inputs for which the method's published arithmetic gives NaN or inf pixels
   // at its defaults (as a GPU running it would). Empty: a non-finite pixel at defaults is a defect.
   std::string nonFiniteWhen = {};
+  // The configurations worth a row of `oitref study` beside the method's defaults (formats,
+  // weights, the presets its sources print).
+  std::vector<OptionValues> studyVariants = {};
+  // The configurations of the stability atlas, `oitref stress` ({} is the defaults); empty: the
+  // method is not in the atlas.
+  std::vector<OptionValues> stressVariants = {};
 };
 
 // Option values by key ("accum" -> "rgba16f"); every key of the method, defaults filled in (and
@@ -196,8 +206,20 @@ class Method {
 // Throws std::runtime_error when the method's memoryNeed exceeds `limit`, listing the items.
 void checkMemory(const Method& method, int width, int height, const SceneGeometry& geometry, uint64_t limit);
 
+// Makes a method with its options checked and converted (MethodOptions).
+using MethodFactory = std::function<std::unique_ptr<Method>(const MethodOptions&)>;
+
+// The methods there are, in the order `oitref methods` lists them: the built-in ones
+// (src/methods/builtin_methods.def), then those added with registerMethod, in the order added.
 std::vector<MethodInfo> allMethods();
 // Throws std::invalid_argument for an unknown method (with the nearest name) or bad options.
 std::unique_ptr<Method> makeMethod(const std::string& name, const std::map<std::string, std::string>& options = {});
+// Adds a method beside the built-in ones: from then on makeMethod, allMethods and every tool
+// that goes through them (render, study, stress, suite, the Python module) know it. Throws
+// std::invalid_argument, naming the method and what is wrong, when the name is taken or not
+// [a-z][a-z0-9_]*, when two options share a key, or when a default, preset or variant is not
+// valid for the options: the checks every built-in method passes too. Safe to call from any
+// thread; a program usually registers its methods once, at start.
+void registerMethod(MethodInfo info, MethodFactory make);
 
 }  // namespace oitref

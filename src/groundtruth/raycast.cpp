@@ -272,6 +272,6 @@ const MethodInfo& raycastInfo() {
   static const MethodInfo info{"raycast", "Embree 3 ray casting: every hit per pixel centre, sorted, OVER in double", {}};
   return info;
 }
-std::unique_ptr<Method> makeRaycast(const MethodOptions&) { return std::make_unique<Raycast>(); }
+std::unique_ptr<Method> raycastFactory(const MethodOptions&) { return std::make_unique<Raycast>(); }
 
 }  // namespace oitref::methods

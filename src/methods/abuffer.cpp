@@ -192,15 +192,22 @@ class Abuffer final : public Method {
 }  // namespace
 
 const MethodInfo& abufferInfo() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "abuffer",
       "exact per-pixel sorted A-buffer (ground truth), OVER back to front",
       {{"precision", "float", "arithmetic of the OVER composite", {"float", "double"}},
        {"max_fragments", "50000000", "fragment budget (32 bytes each); exceeding it is an error", {},
         OptionNumber::integer(1, 0x1p40)}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"precision", "double"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeAbuffer(const MethodOptions& o) {
+std::unique_ptr<Method> abufferFactory(const MethodOptions& o) {
   return std::make_unique<Abuffer>(o);
 }
 

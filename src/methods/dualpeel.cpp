@@ -176,7 +176,8 @@ class Dualpeel final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& dualpeelInfo() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "dualpeel",
       "dual depth peeling (Bavoil–Myers 2008): nearest and farthest layer per pass, MAX blending",
       {{"passes", "64", "peeling passes at most (⌈layers/2⌉ + 1 are needed)", {}, OptionNumber::integer(1, 1024)},
@@ -185,9 +186,15 @@ const MethodInfo& dualpeelInfo() {
         "changing: a peeling pass writes only what can change a target (the previous front copied, not passed through); "
         "all: every output of the sample's shader. The same bits",
         {"changing", "all"}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"color", "rgba32f"}}, {{"passes", "4"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeDualpeel(const MethodOptions& o) {
+std::unique_ptr<Method> dualpeelFactory(const MethodOptions& o) {
   return std::make_unique<Dualpeel>(o);
 }
 

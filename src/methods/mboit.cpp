@@ -314,7 +314,8 @@ class Mboit final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& mboitInfo() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "mboit",
       "moment-based OIT: 4/6/8 power or 2/3/4 trigonometric moments, fp32 or 16-bit (Münstermann et al. 2018; thesis Algorithms 5–6)",
       {{"moments", "power4", "moment set: power moments of z, or trigonometric moments of its phase",
@@ -335,8 +336,33 @@ const MethodInfo& mboitInfo() {
                   "and its lower bound (overestimation 0), T = exp(−a·S) unclamped, eq. 2.7 unclamped, RGBA32F/R32F",
         {{"moments", "power4"}, {"storage", "float"}, {"bias", "0"}, {"overestimation", "0"}, {"warp", "unit"},
          {"saturate", "none"}, {"clamp", "none"}, {"accum", "rgba32f"}}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {
+        {{"preset", "thesis"}},
+        {{"bias", "0"}},
+        {{"warp", "log"}},
+        {{"accum", "rgba16f"}},
+        {{"moments", "power6"}},
+        {{"moments", "power8"}},
+        {{"moments", "trig2"}},
+        {{"moments", "trig3"}},
+        {{"moments", "trig4"}},
+        // 16-bit quantised moments with the published biases (bias=auto).
+        {{"storage", "unorm16"}},
+        {{"moments", "power6"}, {"storage", "unorm16"}},
+        {{"moments", "power8"}, {"storage", "unorm16"}},
+        {{"moments", "trig2"}, {"storage", "unorm16"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{},
+                        {{"accum", "rgba16f"}},
+                        {{"warp", "log"}},
+                        {{"moments", "power8"}},
+                        {{"moments", "trig3"}},
+                        {{"storage", "unorm16"}}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeMboit(const MethodOptions& o) { return std::make_unique<Mboit>(o); }
+std::unique_ptr<Method> mboitFactory(const MethodOptions& o) { return std::make_unique<Mboit>(o); }
 
 }  // namespace oitref::methods

@@ -72,15 +72,22 @@ class Meshkin3 final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& meshkin3Info() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "meshkin3",
       "Meshkin's three-target sort-independent alpha blending, as Vallius's listing 4.1 prints it (GDC 2007)",
       {{"format", "rgba16f", "format of t1, t2, t3 (Meshkin: 64-bit RGBA)", {"rgba16f", "rgba32f"}}},
       {},
       "NaN where a fragment has α = 0 (1/α is inf in t2 and Π α is 0 in t3: inf·0 in the composite), as the "
       "particles' corners outside their disc; inf where Σ 1/α exceeds the format (α < 1/65520 in RGBA16F)"};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"format", "rgba32f"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeMeshkin3(const MethodOptions& o) { return std::make_unique<Meshkin3>(o); }
+std::unique_ptr<Method> meshkin3Factory(const MethodOptions& o) { return std::make_unique<Meshkin3>(o); }
 
 }  // namespace oitref::methods

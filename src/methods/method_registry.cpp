@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
+#include <mutex>
 #include <stdexcept>
 
 #include "methods/methods.h"
@@ -11,28 +13,41 @@
 namespace oitref {
 namespace {
 
+// One registered method. Entries live in a deque: a reference to one stays valid as others are
+// added.
 struct Entry {
-  const MethodInfo& (*info)();
-  std::unique_ptr<Method> (*make)(const MethodOptions&);
+  MethodInfo info;
+  MethodFactory make;
 };
 
-const std::vector<Entry>& registry() {
-  static const std::vector<Entry> entries = {
-      {methods::opaqueInfo, methods::makeOpaque}, {methods::overInfo, methods::makeOver},
-      {methods::sortedInfo, methods::makeSorted},
-      {methods::wsumInfo, methods::makeWsum},     {methods::wavgInfo, methods::makeWavg},
-      {methods::meshkin3Info, methods::makeMeshkin3},
-      {methods::wboitInfo, methods::makeWboit},   {methods::mboitInfo, methods::makeMboit},
-      {methods::mtInfo, methods::makeMt},
-      {methods::peelInfo, methods::makePeel},     {methods::dualpeelInfo, methods::makeDualpeel},
-      {methods::screendoorInfo, methods::makeScreendoor},
-      {methods::hybridInfo, methods::makeHybrid},
-      {methods::stochasticInfo, methods::makeStochastic},
-      {methods::mlabInfo, methods::makeMlab},     {methods::kbufferInfo, methods::makeKbuffer},
-      {methods::dfaoitInfo, methods::makeDfaoit},
-      {methods::abufferInfo, methods::makeAbuffer}, {methods::raycastInfo, methods::makeRaycast},
-  };
-  return entries;
+class Registry {
+ public:
+  Registry();
+  void add(MethodInfo info, MethodFactory make);
+  std::vector<MethodInfo> infos() const {
+    const std::lock_guard lock(mutex_);
+    std::vector<MethodInfo> out;
+    for (const Entry& e : entries_) out.push_back(e.info);
+    return out;
+  }
+  // The entry called `name`, or null; its `names` are every method's, for the error message.
+  const Entry* find(const std::string& name, std::vector<std::string>& names) const {
+    const std::lock_guard lock(mutex_);
+    for (const Entry& e : entries_) {
+      if (e.info.name == name) return &e;
+      names.push_back(e.info.name);
+    }
+    return nullptr;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::deque<Entry> entries_;
+};
+
+Registry& registry() {
+  static Registry r;
+  return r;
 }
 
 }  // namespace
@@ -169,18 +184,74 @@ void checkMemory(const Method& method, int width, int height, const SceneGeometr
                            " (--memory-limit):" + list + "\nRender smaller or raise --memory-limit.");
 }
 
-std::vector<MethodInfo> allMethods() {
-  std::vector<MethodInfo> out;
-  for (const Entry& e : registry()) out.push_back(e.info());
-  return out;
+namespace {
+
+bool validMethodName(const std::string& name) {
+  if (name.empty() || !(name[0] >= 'a' && name[0] <= 'z')) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; });
 }
+
+// What registerMethod checks, built-in methods included: a method's own description must be
+// valid before a user's option can be judged against it.
+void checkInfo(const MethodInfo& info) {
+  const std::string who = "method '" + info.name + "': ";
+  if (!validMethodName(info.name))
+    throw std::invalid_argument(who + "a method's name is a lower-case letter, then lower-case letters, digits or '_'");
+  std::vector<std::string> keys;
+  for (const MethodOption& o : info.options) {
+    if (std::find(keys.begin(), keys.end(), o.key) != keys.end() || (o.key == "preset" && !info.presets.empty()))
+      throw std::invalid_argument(who + "option '" + o.key + "' is declared twice");
+    keys.push_back(o.key);
+    if (!o.choices.empty() && std::find(o.choices.begin(), o.choices.end(), o.defaultValue) == o.choices.end())
+      throw std::invalid_argument(who + "option '" + o.key + "': the default '" + o.defaultValue + "' is not one of its choices");
+    try {
+      checkNumber(info.name, o, o.defaultValue);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(std::string("the default of ") + e.what());
+    }
+  }
+  const auto check = [&](const std::string& what, const OptionValues& values) {
+    try {
+      MethodOptions(info, values);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(who + what + ": " + e.what());
+    }
+  };
+  check("the defaults", {});
+  for (const MethodPreset& p : info.presets) {
+    for (const auto& [key, value] : p.values)
+      if (std::find(keys.begin(), keys.end(), key) == keys.end())
+        throw std::invalid_argument(who + "preset '" + p.name + "' sets option '" + key + "', which the method does not have");
+    check("preset '" + p.name + "'", {{"preset", p.name}});
+  }
+  for (const OptionValues& v : info.studyVariants) check("study variant", v);
+  for (const OptionValues& v : info.stressVariants) check("stress variant", v);
+}
+
+}  // namespace
+
+Registry::Registry() {
+#define OITREF_METHOD(name) add(methods::name##Info(), &methods::name##Factory);
+#include "methods/builtin_methods.def"
+#undef OITREF_METHOD
+}
+
+void Registry::add(MethodInfo info, MethodFactory make) {
+  checkInfo(info);
+  if (!make) throw std::invalid_argument("method '" + info.name + "': no factory given");
+  const std::lock_guard lock(mutex_);
+  for (const Entry& e : entries_)
+    if (e.info.name == info.name) throw std::invalid_argument("method '" + info.name + "' is already registered");
+  entries_.push_back({std::move(info), std::move(make)});
+}
+
+void registerMethod(MethodInfo info, MethodFactory make) { registry().add(std::move(info), std::move(make)); }
+
+std::vector<MethodInfo> allMethods() { return registry().infos(); }
 
 std::unique_ptr<Method> makeMethod(const std::string& name, const std::map<std::string, std::string>& options) {
   std::vector<std::string> names;
-  for (const Entry& e : registry()) {
-    if (e.info().name == name) return e.make(MethodOptions(e.info(), options));
-    names.push_back(e.info().name);
-  }
+  if (const Entry* e = registry().find(name, names)) return e->make(MethodOptions(e->info, options));
   std::string valid;
   for (const std::string& n : names) valid += (valid.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown method '" + name + "'" + util::didYouMean(name, names) + " (valid: " + valid + ")");

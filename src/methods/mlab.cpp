@@ -105,17 +105,31 @@ std::vector<MethodOption> nodeOptions() {
 }  // namespace
 
 const MethodInfo& mlabInfo() {
-  static const MethodInfo info{"mlab", "multi-layer alpha blending (Salvi & Vaidyanathan 2014): k nodes, the farthest two merge",
-                               nodeOptions()};
+  static const MethodInfo info = [] {
+    MethodInfo i{"mlab", "multi-layer alpha blending (Salvi & Vaidyanathan 2014): k nodes, the farthest two merge",
+                 nodeOptions()};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"k", "2"}}, {{"k", "8"}}, {{"node", "rgba8"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}, {{"node", "rgba8"}}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeMlab(const MethodOptions& o) { return std::make_unique<LayeredNodes>(o, true); }
+std::unique_ptr<Method> mlabFactory(const MethodOptions& o) { return std::make_unique<LayeredNodes>(o, true); }
 
 const MethodInfo& kbufferInfo() {
-  static const MethodInfo info{"kbuffer", "k-buffer: the k nearest fragments composited exactly, the rest dropped",
-                               nodeOptions()};
+  static const MethodInfo info = [] {
+    MethodInfo i{"kbuffer", "k-buffer: the k nearest fragments composited exactly, the rest dropped",
+                 nodeOptions()};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"k", "8"}}, {{"k", "16"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeKbuffer(const MethodOptions& o) { return std::make_unique<LayeredNodes>(o, false); }
+std::unique_ptr<Method> kbufferFactory(const MethodOptions& o) { return std::make_unique<LayeredNodes>(o, false); }
 
 }  // namespace oitref::methods

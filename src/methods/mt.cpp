@@ -114,13 +114,18 @@ class Mt final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& mtInfo() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "mt",
       "moment transparency (Sharpe 2018): 4 power moments of the log depth in [0, 1], MSM bound",
       {{"bias", "3e-7", "moment bias β towards (0, 0.375, 0, 0.375)", {}, OptionNumber::real(0, 1)},
        {"accum", "rgba32f", "accumulation format", {"rgba16f", "rgba32f"}}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeMt(const MethodOptions& o) { return std::make_unique<Mt>(o); }
+std::unique_ptr<Method> mtFactory(const MethodOptions& o) { return std::make_unique<Mt>(o); }
 
 }  // namespace oitref::methods

@@ -24,6 +24,6 @@ const MethodInfo& opaqueInfo() {
   static const MethodInfo info{"opaque", "everything drawn opaque (the thesis's \"solid only\")", {}};
   return info;
 }
-std::unique_ptr<Method> makeOpaque(const MethodOptions&) { return std::make_unique<Opaque>(); }
+std::unique_ptr<Method> opaqueFactory(const MethodOptions&) { return std::make_unique<Opaque>(); }
 
 }  // namespace oitref::methods

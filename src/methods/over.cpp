@@ -41,15 +41,22 @@ std::vector<std::pair<std::string, CullMode>> overDraws(const std::string& faces
 }
 
 const MethodInfo& overInfo() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "over",
       "unsorted OVER in submission order (object, then triangle order)",
       {{"faces", "all",
         "all: one draw with both faces; split: every back face, then every front face (two culled draws, as the "
         "bigwheels OIT demo); back, front: that side only",
         {"all", "split", "back", "front"}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"faces", "split"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeOver(const MethodOptions& o) { return std::make_unique<Over>(o); }
+std::unique_ptr<Method> overFactory(const MethodOptions& o) { return std::make_unique<Over>(o); }
 
 }  // namespace oitref::methods

@@ -101,15 +101,22 @@ class Peel final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& peelInfo() {
-  static const MethodInfo info{"peel",
-                               "front-to-back depth peeling (Everitt; thesis Algorithm 1)",
-                               {{"passes", "32", "peeling iterations (the thesis: 32)", {}, OptionNumber::integer(1, 1024)},
-                                {"layer", "rgba8", "format of the peeled layer and the accumulator (thesis: RGBA8)",
-                                 {"rgba8", "rgba16f", "rgba32f"}}},
-                               {{"thesis", "Algorithm 1 (the default): 32 iterations, RGBA8 C2 and C3", {{"passes", "32"}, {"layer", "rgba8"}}}}};
+  static const MethodInfo info = [] {
+    MethodInfo i{"peel",
+                 "front-to-back depth peeling (Everitt; thesis Algorithm 1)",
+                 {{"passes", "32", "peeling iterations (the thesis: 32)", {}, OptionNumber::integer(1, 1024)},
+                  {"layer", "rgba8", "format of the peeled layer and the accumulator (thesis: RGBA8)",
+                   {"rgba8", "rgba16f", "rgba32f"}}},
+                 {{"thesis", "Algorithm 1 (the default): 32 iterations, RGBA8 C2 and C3", {{"passes", "32"}, {"layer", "rgba8"}}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"passes", "1"}}, {{"passes", "2"}}, {{"passes", "4"}}, {{"passes", "8"}}, {{"passes", "16"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makePeel(const MethodOptions& o) {
+std::unique_ptr<Method> peelFactory(const MethodOptions& o) {
   return std::make_unique<Peel>(o);
 }
 

@@ -57,11 +57,18 @@ class Screendoor final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& screendoorInfo() {
-  static const MethodInfo info{"screendoor",
-                               "screen-door transparency: opaque where α exceeds an ordered dither threshold (Vallius §4.4)",
-                               {{"mask", "4", "side of the Bayer dither matrix (α resolves in steps of 1/mask²)", {"2", "4", "8"}}}};
+  static const MethodInfo info = [] {
+    MethodInfo i{"screendoor",
+                 "screen-door transparency: opaque where α exceeds an ordered dither threshold (Vallius §4.4)",
+                 {{"mask", "4", "side of the Bayer dither matrix (α resolves in steps of 1/mask²)", {"2", "4", "8"}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"mask", "8"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeScreendoor(const MethodOptions& o) { return std::make_unique<Screendoor>(o); }
+std::unique_ptr<Method> screendoorFactory(const MethodOptions& o) { return std::make_unique<Screendoor>(o); }
 
 }  // namespace oitref::methods

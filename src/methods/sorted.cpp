@@ -88,11 +88,16 @@ class Sorted final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& sortedInfo() {
-  static const MethodInfo info{"sorted",
-                               "OVER after sorting transparent geometry back to front by centroid view depth",
-                               {{"sort", "object", "what is sorted: whole objects or single triangles", {"object", "triangle"}}}};
+  static const MethodInfo info = [] {
+    MethodInfo i{"sorted",
+                 "OVER after sorting transparent geometry back to front by centroid view depth",
+                 {{"sort", "object", "what is sorted: whole objects or single triangles", {"object", "triangle"}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"sort", "triangle"}}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeSorted(const MethodOptions& o) { return std::make_unique<Sorted>(o); }
+std::unique_ptr<Method> sortedFactory(const MethodOptions& o) { return std::make_unique<Sorted>(o); }
 
 }  // namespace oitref::methods

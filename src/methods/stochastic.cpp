@@ -113,21 +113,28 @@ class Stochastic final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& stochasticInfo() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "stochastic",
       "stochastic transparency (Enderton et al. 2010): random sample masks, depth per sample, alpha correction",
       {{"variant", "enderton", "enderton: Enderton et al.'s stratified masks and weighted accumulation; vallius: Vallius's "
-                               "listings 4.3–4.9 as printed (a random test per fragment, S unblended passes, bg·T + c·(1 − T))",
+                 "listings 4.3–4.9 as printed (a random test per fragment, S unblended passes, bg·T + c·(1 − T))",
         {"enderton", "vallius"}},
        {"samples", "8", "samples per pixel S (each fragment covers round(α·S) of them); vallius: S passes", {"8", "16", "32"}},
        {"seed", "1", "seed of the coverage masks (vallius: of the per-fragment random values)", {},
         OptionNumber::integer(0, 4294967295.0)},
        {"accum", "rgba16f", "accumulation format (vallius: the samples' target; listing 4.3's RGBA16F); the revealage uses the same encoding in one channel",
         {"rgba16f", "rgba32f"}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"samples", "16"}}, {{"samples", "32"}}, {{"variant", "vallius"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeStochastic(const MethodOptions& o) {
-  if (o.text("variant") == "vallius") return makeStochasticVallius(o);
+std::unique_ptr<Method> stochasticFactory(const MethodOptions& o) {
+  if (o.text("variant") == "vallius") return stochasticValliusFactory(o);
   return std::make_unique<Stochastic>(o);
 }
 

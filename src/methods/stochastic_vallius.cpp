@@ -91,6 +91,6 @@ class StochasticVallius final : public OpaqueFirstMethod {
 
 }  // namespace
 
-std::unique_ptr<Method> makeStochasticVallius(const MethodOptions& o) { return std::make_unique<StochasticVallius>(o); }
+std::unique_ptr<Method> stochasticValliusFactory(const MethodOptions& o) { return std::make_unique<StochasticVallius>(o); }
 
 }  // namespace oitref::methods

@@ -65,7 +65,8 @@ class Wavg final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& wavgInfo() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "wavg",
       "weighted average (Bavoil–Myers; thesis Algorithm 3, eq. 2.2)",
       {{"accum", "rgba16f",
@@ -78,8 +79,14 @@ const MethodInfo& wavgInfo() {
        {"clamp", "max", "the average's divisor: max(Σα, 1e-4), or Σα itself as eq. 2.3 prints it (none)", {"max", "none"}}},
       {{"thesis", "Algorithm 3 as printed: C2q RGBA32F and C2s R32F (the thesis also ran 16F), eq. 2.2–2.3's transmittance and quotient",
         {{"accum", "rgba32f"}, {"transmittance", "thesis_eq2.2"}, {"clamp", "none"}}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"accum", "rgba32f"}}, {{"preset", "thesis"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{{"accum", "rgba16f"}}, {{"accum", "rgba32f"}}, {{"accum", "rgba:e8m7"}}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeWavg(const MethodOptions& o) { return std::make_unique<Wavg>(o); }
+std::unique_ptr<Method> wavgFactory(const MethodOptions& o) { return std::make_unique<Wavg>(o); }
 
 }  // namespace oitref::methods

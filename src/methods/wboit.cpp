@@ -176,7 +176,8 @@ class Wboit final : public OpaqueFirstMethod {
 }  // namespace
 
 const MethodInfo& wboitInfo() {
-  static const MethodInfo info{
+  static const MethodInfo info = [] {
+    MethodInfo i{
       "wboit",
       "weighted blended OIT (McGuire–Bavoil listing 3; thesis Algorithm 4)",
       {{"accum", "rgba32f", "accumulation format (the thesis's Algorithm 4 uses RGBA32F; bfloat16 = rgba:e8m7, fp8 = rgba:e5m2)",
@@ -191,8 +192,35 @@ const MethodInfo& wboitInfo() {
         {"mb", "none"}}},
       {{"thesis", "Algorithm 4 as printed: C2q RGBA32F, C2s R32F, W5 (the weight of most of the thesis's figures), eq. 2.7 without a clamp",
         {{"accum", "rgba32f"}, {"reveal", "r32f"}, {"weight", "az5"}, {"adaptive", "false"}, {"layout", "mrt"}, {"clamp", "none"}}}}};
+    // The configurations worth a row of `oitref study` beside the defaults: Algorithm 4 as
+    // printed, the thesis's "WBOIT 16F" (no weight, the 16-bit targets of its weighted average),
+    // its other weights in RGBA32F, and McGuire–Bavoil's own set-up (RGBA16F + R8) with their
+    // equations 7–10.
+    i.studyVariants = {
+        {{"preset", "thesis"}},
+        {{"preset", "thesis"}, {"weight", "one"}, {"accum", "rgba16f"}, {"reveal", "r16f"}},
+        {{"weight", "z3"}},
+        {{"weight", "z5"}},
+        {{"weight", "az3"}},
+        {{"weight", "az5"}, {"adaptive", "true"}},
+        {{"weight", "az5"}, {"accum", "rgba16f"}},
+        {{"weight", "mb7"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
+        {{"weight", "mb8"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
+        {{"weight", "mb9"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
+        {{"weight", "mb10"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
+        // Listing 4: one blend function, the revealage in accum's alpha.
+        {{"layout", "single"}, {"accum", "rgba16f"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{},
+                        {{"accum", "rgba16f"}},
+                        {{"accum", "rgba16f"}, {"reveal", "r8"}, {"weight", "mb7"}},
+                        {{"accum", "rgba16f"}, {"weight", "one"}},
+                        {{"accum", "rgba:e8m7"}},
+                        {{"accum", "rgba:e5m2"}}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeWboit(const MethodOptions& o) { return std::make_unique<Wboit>(o); }
+std::unique_ptr<Method> wboitFactory(const MethodOptions& o) { return std::make_unique<Wboit>(o); }
 
 }  // namespace oitref::methods

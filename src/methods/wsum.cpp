@@ -63,12 +63,19 @@ class Wsum final : public Method {
 }  // namespace
 
 const MethodInfo& wsumInfo() {
-  static const MethodInfo info{"wsum",
-                               "weighted sum (Meshkin; thesis Algorithm 2): C = Σc·α + C0·(1 − Σα)",
-                               {{"accum", "rgba16f", "accumulation target format (bfloat16 = rgba:e8m7, fp8 = rgba:e5m2)", {"rgba16f", "rgba32f", "rgba:e8m7", "rgba:e5m2"}}},
-                               {{"thesis", "Algorithm 2 (the default): C2 RGBA16F, the composite into an RGBA8 C3", {{"accum", "rgba16f"}}}}};
+  static const MethodInfo info = [] {
+    MethodInfo i{"wsum",
+                 "weighted sum (Meshkin; thesis Algorithm 2): C = Σc·α + C0·(1 − Σα)",
+                 {{"accum", "rgba16f", "accumulation target format (bfloat16 = rgba:e8m7, fp8 = rgba:e5m2)", {"rgba16f", "rgba32f", "rgba:e8m7", "rgba:e5m2"}}},
+                 {{"thesis", "Algorithm 2 (the default): C2 RGBA16F, the composite into an RGBA8 C3", {{"accum", "rgba16f"}}}}};
+    // The configurations worth a row of `oitref study` beside the defaults.
+    i.studyVariants = {{{"accum", "rgba32f"}}};
+    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
+    i.stressVariants = {{{"accum", "rgba16f"}}, {{"accum", "rgba32f"}}, {{"accum", "rgba:e8m7"}}, {{"accum", "rgba:e5m2"}}};
+    return i;
+  }();
   return info;
 }
-std::unique_ptr<Method> makeWsum(const MethodOptions& o) { return std::make_unique<Wsum>(o); }
+std::unique_ptr<Method> wsumFactory(const MethodOptions& o) { return std::make_unique<Wsum>(o); }
 
 }  // namespace oitref::methods

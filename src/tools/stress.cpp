@@ -52,40 +52,10 @@ std::vector<StressCondition> stressConditions() {
 }
 
 std::vector<StressConfig> stressConfigs() {
-  return {
-      {"over", {}},
-      {"wsum", {{"accum", "rgba16f"}}},
-      {"wsum", {{"accum", "rgba32f"}}},
-      {"wsum", {{"accum", "rgba:e8m7"}}},
-      {"wsum", {{"accum", "rgba:e5m2"}}},
-      {"meshkin3", {}},
-      {"wavg", {{"accum", "rgba16f"}}},
-      {"wavg", {{"accum", "rgba32f"}}},
-      {"wavg", {{"accum", "rgba:e8m7"}}},
-      {"wboit", {}},
-      {"wboit", {{"accum", "rgba16f"}}},
-      {"wboit", {{"accum", "rgba16f"}, {"reveal", "r8"}, {"weight", "mb7"}}},
-      {"wboit", {{"accum", "rgba16f"}, {"weight", "one"}}},
-      {"wboit", {{"accum", "rgba:e8m7"}}},
-      {"wboit", {{"accum", "rgba:e5m2"}}},
-      {"mboit", {}},
-      {"mboit", {{"accum", "rgba16f"}}},
-      {"mboit", {{"warp", "log"}}},
-      {"mboit", {{"moments", "power8"}}},
-      {"mboit", {{"moments", "trig3"}}},
-      {"mboit", {{"storage", "unorm16"}}},
-      {"mt", {}},
-      {"peel", {}},
-      {"dualpeel", {}},
-      {"hybrid", {}},
-      {"screendoor", {}},
-      {"stochastic", {}},
-      {"mlab", {}},
-      {"mlab", {{"node", "rgba8"}}},
-      {"kbuffer", {}},
-      {"dfaoit", {}},
-      {"abuffer", {}},
-  };
+  std::vector<StressConfig> out;
+  for (const MethodInfo& info : allMethods())
+    for (const OptionValues& options : info.stressVariants) out.push_back({info.name, options});
+  return out;
 }
 
 namespace {

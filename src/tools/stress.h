@@ -36,6 +36,7 @@ inline const std::vector<int> kStressLayers = {1, 2, 4, 8, 16, 32, 64, 128, 256,
 inline const std::vector<float> kStressAlphas = {0.0f, 1e-7f, 1e-4f, 0.01f, 0.1f, 0.5f, 0.9f, 0.99f, 1.0f - 1e-6f, 1.0f};
 
 std::vector<StressCondition> stressConditions();
+// Every registered method's MethodInfo::stressVariants, in registry order.
 std::vector<StressConfig> stressConfigs();
 
 // The parametric scene: `layers` camera-facing quads covering the whole view, alternating two

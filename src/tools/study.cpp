@@ -28,65 +28,14 @@ std::string StudyVariant::slug() const {
 }
 
 std::vector<StudyVariant> studyVariants() {
-  // The variants worth a row beside each method's defaults; a method missing here (or added
-  // later) is studied at its defaults.
-  const std::map<std::string, std::vector<std::map<std::string, std::string>>> extra = {
-      {"over", {{{"faces", "split"}}}},
-      {"sorted", {{{"sort", "triangle"}}}},
-      {"wsum", {{{"accum", "rgba32f"}}}},
-      // The thesis presets (Algorithms 1–6 as printed; peel's and wsum's are their defaults).
-      {"wavg", {{{"accum", "rgba32f"}}, {{"preset", "thesis"}}}},
-      {"wboit",
-       {// Algorithm 4 as printed, the thesis's "WBOIT 16F" (no weight, the 16-bit targets of its
-        // weighted average), its other weights in RGBA32F, and McGuire–Bavoil's own set-up
-        // (RGBA16F + R8) with their equations 7–10.
-        {{"preset", "thesis"}},
-        {{"preset", "thesis"}, {"weight", "one"}, {"accum", "rgba16f"}, {"reveal", "r16f"}},
-        {{"weight", "z3"}},
-        {{"weight", "z5"}},
-        {{"weight", "az3"}},
-        {{"weight", "az5"}, {"adaptive", "true"}},
-        {{"weight", "az5"}, {"accum", "rgba16f"}},
-        {{"weight", "mb7"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
-        {{"weight", "mb8"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
-        {{"weight", "mb9"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
-        {{"weight", "mb10"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
-        // Listing 4: one blend function, the revealage in accum's alpha.
-        {{"layout", "single"}, {"accum", "rgba16f"}}}},
-      {"screendoor", {{{"mask", "8"}}}},
-      {"hybrid", {{{"k", "2"}}, {{"k", "8"}}, {{"k", "16"}}, {{"core", "rgba8"}}}},
-      {"dualpeel", {{{"color", "rgba32f"}}, {{"passes", "4"}}}},
-      {"stochastic", {{{"samples", "16"}}, {{"samples", "32"}}, {{"variant", "vallius"}}}},
-      {"mlab", {{{"k", "2"}}, {{"k", "8"}}, {{"node", "rgba8"}}}},
-      {"kbuffer", {{{"k", "8"}}, {{"k", "16"}}}},
-      {"dfaoit", {{{"accum", "rgba32f"}}}},
-      {"mboit",
-       {{{"preset", "thesis"}},
-        {{"bias", "0"}},
-        {{"warp", "log"}},
-        {{"accum", "rgba16f"}},
-        {{"moments", "power6"}},
-        {{"moments", "power8"}},
-        {{"moments", "trig2"}},
-        {{"moments", "trig3"}},
-        {{"moments", "trig4"}},
-        // 16-bit quantised moments with the published biases (bias=auto).
-        {{"storage", "unorm16"}},
-        {{"moments", "power6"}, {"storage", "unorm16"}},
-        {{"moments", "power8"}, {"storage", "unorm16"}},
-        {{"moments", "trig2"}, {"storage", "unorm16"}}}},
-      {"meshkin3", {{{"format", "rgba32f"}}}},
-      {"peel", {{{"passes", "1"}}, {{"passes", "2"}}, {{"passes", "4"}}, {{"passes", "8"}}, {{"passes", "16"}}}},
-      {"abuffer", {{{"precision", "double"}}}},
-  };
+  // Each method at its defaults, then the variants it names (MethodInfo::studyVariants); the
+  // A-buffer first: it is every other row's reference.
   std::vector<MethodInfo> methods = allMethods();
   std::stable_partition(methods.begin(), methods.end(), [](const MethodInfo& m) { return m.name == "abuffer"; });
   std::vector<StudyVariant> out;
   for (const MethodInfo& info : methods) {
     out.push_back({info.name, {}});
-    const auto it = extra.find(info.name);
-    if (it != extra.end())
-      for (const auto& options : it->second) out.push_back({info.name, options});
+    for (const OptionValues& options : info.studyVariants) out.push_back({info.name, options});
   }
   return out;
 }

@@ -20,8 +20,8 @@ struct StudyVariant {
 };
 
 // Every registered method at its defaults (in registry order, the A-buffer first), each followed
-// by its variants that matter: accumulation formats, WBOIT weights, MBOIT bias/warp/format, peel
-// pass counts 1…16 (32 is the default).
+// by the variants it names (MethodInfo::studyVariants: accumulation formats, WBOIT weights, MBOIT
+// bias/warp/format, peel pass counts 1…16, …).
 std::vector<StudyVariant> studyVariants();
 
 struct StudyRow {
