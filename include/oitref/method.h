@@ -91,13 +91,24 @@ class MethodOptions {
   // Throws std::invalid_argument for unknown keys (with the nearest valid key) or values outside
   // the option's choices, presets included.
   MethodOptions(const MethodInfo& info, const std::map<std::string, std::string>& given);
+  // Every value converted here, once, as its option declares it:
   const std::string& text(const std::string& key) const;
   double number(const std::string& key) const;  // throws naming the key when not a number
+  int integer(const std::string& key) const;    // an OptionNumber::integer option
   bool flag(const std::string& key) const;      // "true" / "false"
+  Format format(const std::string& key) const;  // a format name (parseFormat); throws naming the key
+  // The value's place among the option's choices, as E: an enum whose enumerators are declared
+  // in the order of the choices (weight=az5 of {one, z3, z5, az3, az5} → E(4)).
+  template <typename E>
+  E choice(const std::string& key) const {
+    return E(choiceIndex(key));
+  }
+  int choiceIndex(const std::string& key) const;
   const std::map<std::string, std::string>& all() const { return values_; }
 
  private:
   std::string method_;
+  std::vector<MethodOption> options_;
   std::map<std::string, std::string> values_;
 };
 

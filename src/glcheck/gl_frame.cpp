@@ -89,7 +89,11 @@ std::string glslFloat(float value) {
 GlFrame::GlFrame(const GlContext& context, const FrameContext& frame, const std::vector<AttachmentDecl>& attachments)
     : context_(context), gl_(context.gl()), frame_(frame) {
   std::vector<AttachmentDecl> all = attachments;
-  all.push_back(methods::colorAttachment("analysis", "rgba32f", "oitref's RGBA32F analysis copy"));
+  AttachmentDecl analysis;
+  analysis.name = "analysis";
+  analysis.format = parseFormat("rgba32f");
+  analysis.purpose = "oitref's RGBA32F analysis copy";
+  all.push_back(analysis);
   for (const AttachmentDecl& a : all) {
     Texture t;
     t.isDepth = a.isDepth;
@@ -403,7 +407,7 @@ void GlFrame::fullscreenDraw(const std::string& main, const std::vector<std::str
 
 void GlFrame::blendOverBackground(const std::string& main, const std::vector<GlInput>& inputs) {
   PipelineState composite;
-  composite.blend[0] = composite.blend[1] = methods::compositeBlend();
+  composite.blend[0] = composite.blend[1] = compositeBlend();
   const PassQuery timed(*this, "composite");
   fullscreenDraw(main, {"opaque", "analysis"}, composite, inputs);
 }

@@ -10,10 +10,6 @@
 namespace oitref::glcheck {
 namespace {
 
-using methods::additiveBlend;
-using methods::overBlend;
-using methods::revealageBlend;
-using methods::transparentState;
 
 PipelineState plainState() { return PipelineState{}; }
 
@@ -259,7 +255,7 @@ std::string peel(GlFrame& f, const MethodOptions& o) {
   PipelineState solid;
   solid.depth = {true, CompareFunc::Less, true, false};
   PipelineState under;
-  under.blend[0] = methods::underBlend();
+  under.blend[0] = underBlend();
   for (int pass = 0; pass < passes; ++pass) {
     f.copy("depth", "layer_depth");
     f.clear("layer", glm::vec4(0.0f));
@@ -275,7 +271,7 @@ void main() {
     f.copy("layer_depth", "peeled_depth");
   }
   PipelineState merge;
-  merge.blend[0] = merge.blend[1] = methods::premultipliedOntoBackgroundBlend();
+  merge.blend[0] = merge.blend[1] = premultipliedOntoBackgroundBlend();
   f.fullscreenPass(R"(
 void main() {
   vec4 c = fetch(accum);

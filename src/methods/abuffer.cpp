@@ -56,7 +56,7 @@ class Abuffer final : public Method {
   explicit Abuffer(const MethodOptions& o)
       : useDouble_(o.text("precision") == "double"), maxFragments_(uint64_t(o.number("max_fragments"))) {}
   const MethodInfo& info() const override { return abufferInfo(); }
-  std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
+  std::vector<AttachmentDecl> attachments() const override { return AttachmentList().declared(); }
   // The frame's own buffers, and the fragments that the geometry alone shows it must store
   // (fragment_bound.h): a frame that cannot fit is refused before anything is allocated. The
   // fragments themselves are counted, and checked again, by the counting pass.
@@ -81,7 +81,7 @@ class Abuffer final : public Method {
     const int w = context.width, h = context.height;
     const size_t pixels = size_t(w) * size_t(h);
     Framebuffer depthOnly;
-    depthOnly.depth = &t.depth("depth");
+    depthOnly.depth = &t.depth();
     const PipelineState st = transparentState(context.profile, BlendState{});
 
     // The fragments that fit beside the frame's own buffers and under max_fragments. The counting
@@ -172,7 +172,7 @@ class Abuffer final : public Method {
     result.stats.depthComplexityMean = double(total) / double(pixels);
     result.stats.pixelsWithTransparency = covered;
     result.stats.fragmentStorageBytes = total * sizeof(StoredFragment) + (pixels + 1) * sizeof(uint64_t);
-    t.finish(result, "opaque");
+    t.finish(result, AttachmentList::kOpaque);
     result.fragmentStart = std::move(start);
     result.fragments = std::move(fragments);
     return result;

@@ -23,26 +23,22 @@ constexpr float kEmptySlot = 2.0f;  // a near-depth slot's clear value: behind e
 
 class Dfaoit final : public OpaqueFirstMethod {
  public:
-  explicit Dfaoit(const MethodOptions& o) : format_(o.text("accum")) {}
+  explicit Dfaoit(const MethodOptions& o)
+      : nearDepth_{declared.color("near_depth_0", "r32f", "window depth of the nearest fragment"),
+                   declared.color("near_depth_1", "r32f", "window depth of the second nearest")},
+        nearColor_{declared.color("near_color_0", o.format("accum"), "straight (c, α) of the nearest fragment"),
+                   declared.color("near_color_1", o.format("accum"), "straight (c, α) of the second nearest")},
+        accum_(declared.color("accum", o.format("accum"), "Σ(c, α), ONE, ONE")),
+        premult_(declared.color("premult", o.format("accum"), "(Σ α·c, Π(1 − α)): RGB ONE, ONE; alpha ZERO, ONE_MINUS_SRC_ALPHA")),
+        count_(declared.color("count", "r32f", "n, ONE, ONE")) {}
   const MethodInfo& info() const override { return dfaoitInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("near_depth_0", "r32f", "window depth of the nearest fragment"));
-    a.push_back(colorAttachment("near_depth_1", "r32f", "window depth of the second nearest"));
-    a.push_back(colorAttachment("near_color_0", format_, "straight (c, α) of the nearest fragment"));
-    a.push_back(colorAttachment("near_color_1", format_, "straight (c, α) of the second nearest"));
-    a.push_back(colorAttachment("accum", format_, "Σ(c, α), ONE, ONE"));
-    a.push_back(colorAttachment("premult", format_, "(Σ α·c, Π(1 − α)): RGB ONE, ONE; alpha ZERO, ONE_MINUS_SRC_ALPHA"));
-    a.push_back(colorAttachment("count", "r32f", "n, ONE, ONE"));
-    return a;
-  }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const Profile& profile = context.profile;
-    Image* depth[2] = {&t.color("near_depth_0"), &t.color("near_depth_1")};
-    Image* color[2] = {&t.color("near_color_0"), &t.color("near_color_1")};
-    Image& accum = t.color("accum");
-    Image& premult = t.color("premult");
-    Image& count = t.color("count");
+    Image* depth[2] = {&t[nearDepth_[0]], &t[nearDepth_[1]]};
+    Image* color[2] = {&t[nearColor_[0]], &t[nearColor_[1]]};
+    Image& accum = t[accum_];
+    Image& premult = t[premult_];
+    Image& count = t[count_];
     for (int i = 0; i < 2; ++i) depth[i]->clear(glm::vec4(kEmptySlot), profile), color[i]->clear(glm::vec4(0.0f), profile);
     accum.clear(glm::vec4(0.0f), profile);
     premult.clear({0, 0, 0, 1}, profile);
@@ -51,7 +47,7 @@ class Dfaoit final : public OpaqueFirstMethod {
     fb.color[0] = &accum;
     fb.color[1] = &premult;
     fb.color[2] = &count;
-    fb.depth = &t.depth("depth");
+    fb.depth = &t.depth();
     PipelineState st = transparentState(profile, additiveBlend());
     st.blend[1] = singleTargetWeightedBlend();
     st.blend[2] = additiveBlend();
@@ -92,7 +88,7 @@ class Dfaoit final : public OpaqueFirstMethod {
   }
 
  private:
-  std::string format_;
+  ColorHandle nearDepth_[2], nearColor_[2], accum_, premult_, count_;
 };
 
 }  // namespace

@@ -68,22 +68,19 @@ void peel(float z, const glm::vec4& c, const glm::vec4& range, const glm::vec4& 
 class Dualpeel final : public OpaqueFirstMethod {
  public:
   explicit Dualpeel(const MethodOptions& o)
-      : passes_(int(o.number("passes"))), colorFormat_(o.text("color")), allOutputs_(o.text("outputs") == "all") {}
+      : passes_(o.integer("passes")),
+        depth_{declared.color("depth_a", "rg32f", "(−nearest, farthest) unpeeled depth, ping"),
+               declared.color("depth_b", "rg32f", "(−nearest, farthest) unpeeled depth, pong")},
+        front_{declared.color("front_a", o.format("color"), "front layers so far, under-blended (premultiplied, alpha = coverage), ping"),
+               declared.color("front_b", o.format("color"), "front layers so far, pong")},
+        back_(declared.color("back", o.format("color"), "this pass's back layer (c, α)")),
+        allOutputs_(o.text("outputs") == "all") {}
   const MethodInfo& info() const override { return dualpeelInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("depth_a", "rg32f", "(−nearest, farthest) unpeeled depth, ping"));
-    a.push_back(colorAttachment("depth_b", "rg32f", "(−nearest, farthest) unpeeled depth, pong"));
-    a.push_back(colorAttachment("front_a", colorFormat_, "front layers so far, under-blended (premultiplied, alpha = coverage), ping"));
-    a.push_back(colorAttachment("front_b", colorFormat_, "front layers so far, pong"));
-    a.push_back(colorAttachment("back", colorFormat_, "this pass's back layer (c, α)"));
-    return a;
-  }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {
     const Profile& profile = context.profile;
-    Image* depth[2] = {&t.color("depth_a"), &t.color("depth_b")};
-    Image* front[2] = {&t.color("front_a"), &t.color("front_b")};
-    Image& back = t.color("back");
+    Image* depth[2] = {&t[depth_[0]], &t[depth_[1]]};
+    Image* front[2] = {&t[front_[0]], &t[front_[1]]};
+    Image& back = t[back_];
     PipelineState maxState = transparentState(profile, maxBlend());
     maxState.blend[2] = maxBlend();
 
@@ -91,7 +88,7 @@ class Dualpeel final : public OpaqueFirstMethod {
     front[0]->clear(glm::vec4(0.0f), profile);
     Framebuffer init;
     init.color[0] = depth[0];
-    init.depth = &t.depth("depth");
+    init.depth = &t.depth();
     run.transparentPositionPass("init", init, maxState, [](const FragmentBatch& in, FragmentBatchOutput& out) {
       for (int i = 0; i < in.count; ++i) out.write(i, 0, glm::vec4(-in.depth[i], in.depth[i], 0.0f, 0.0f));
     });
@@ -119,7 +116,7 @@ class Dualpeel final : public OpaqueFirstMethod {
       fb.color[0] = &depthNext;
       fb.color[1] = &frontNext;
       fb.color[2] = &back;
-      fb.depth = &t.depth("depth");
+      fb.depth = &t.depth();
       // A batch at a time: the previous range and front layer fetched a row at a time.
       run.transparentBatchPass("peel " + std::to_string(pass), fb, maxState,
                                [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
@@ -169,7 +166,7 @@ class Dualpeel final : public OpaqueFirstMethod {
 
  private:
   int passes_;
-  std::string colorFormat_;
+  ColorHandle depth_[2], front_[2], back_;  // ping and pong
   bool allOutputs_;
 };
 

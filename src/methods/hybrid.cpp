@@ -24,35 +24,32 @@ constexpr float kEmpty = 2.0f;  // a core depth slot's clear value: behind every
 
 class Hybrid final : public OpaqueFirstMethod {
  public:
-  explicit Hybrid(const MethodOptions& o) : k_(int(o.number("k"))), coreFormat_(o.text("core")), tailFormat_(o.text("tail")) {}
-  const MethodInfo& info() const override { return hybridInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
+  explicit Hybrid(const MethodOptions& o) : k_(o.integer("k")) {
     for (int i = 0; i < k_; ++i)
-      a.push_back(colorAttachment("core_depth_" + std::to_string(i), "r32f", "window depth of the core's fragment " + std::to_string(i)));
+      coreDepth_.push_back(declared.color("core_depth_" + std::to_string(i), "r32f", "window depth of the core's fragment " + std::to_string(i)));
     for (int i = 0; i < k_; ++i)
-      a.push_back(colorAttachment("core_color_" + std::to_string(i), coreFormat_, "straight (c, α) of the core's fragment " + std::to_string(i)));
-    a.push_back(colorAttachment("tail", tailFormat_, "Σ(c·α, α) of the tail, blended ONE, ONE"));
-    a.push_back(colorAttachment("tail_count", singleChannelFormat(tailFormat_), "n of the tail, blended ONE, ONE"));
-    return a;
+      coreColor_.push_back(declared.color("core_color_" + std::to_string(i), o.format("core"), "straight (c, α) of the core's fragment " + std::to_string(i)));
+    tail_ = declared.color("tail", o.format("tail"), "Σ(c·α, α) of the tail, blended ONE, ONE");
+    tailCount_ = declared.color("tail_count", singleChannelFormat(o.text("tail")), "n of the tail, blended ONE, ONE");
   }
+  const MethodInfo& info() const override { return hybridInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const int k = k_;
     std::vector<Image*> depth(static_cast<size_t>(k)), color(static_cast<size_t>(k));
     for (int i = 0; i < k; ++i) {
-      depth[size_t(i)] = &t.color("core_depth_" + std::to_string(i));
-      color[size_t(i)] = &t.color("core_color_" + std::to_string(i));
+      depth[size_t(i)] = &t[coreDepth_[size_t(i)]];
+      color[size_t(i)] = &t[coreColor_[size_t(i)]];
       depth[size_t(i)]->clear(glm::vec4(kEmpty), context.profile);
       color[size_t(i)]->clear(glm::vec4(0.0f), context.profile);
     }
-    Image& tail = t.color("tail");
-    Image& tailCount = t.color("tail_count");
+    Image& tail = t[tail_];
+    Image& tailCount = t[tailCount_];
     tail.clear(glm::vec4(0.0f), context.profile);
     tailCount.clear(glm::vec4(0.0f), context.profile);
     Framebuffer fb;
     fb.color[0] = &tail;
     fb.color[1] = &tailCount;
-    fb.depth = &t.depth("depth");
+    fb.depth = &t.depth();
     const Profile& profile = context.profile;
     run.transparentPass("core and tail", fb, transparentState(profile, additiveBlend()),
                         [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
@@ -97,7 +94,8 @@ class Hybrid final : public OpaqueFirstMethod {
 
  private:
   int k_;
-  std::string coreFormat_, tailFormat_;
+  std::vector<ColorHandle> coreDepth_, coreColor_;
+  ColorHandle tail_, tailCount_;
 };
 
 }  // namespace

@@ -70,31 +70,27 @@ class Mboit final : public OpaqueFirstMethod {
         bias_(o.text("bias") == "auto" ? set_.defaultBias(quantised_) : float(o.number("bias"))),
         overestimation_(float(o.number("overestimation"))), logWarp_(o.text("warp") == "log"),
         unitDepth_(o.text("warp") == "unit"), saturate_(o.text("saturate") == "auto" && !set_.trigonometric),
-        clamp_(resolveClampOption(o)), accumFormat_(o.text("accum")) {
+        clamp_(resolveClampOption(o)) {
     // The thesis's depth in [0, 1] comes with its bias vector for four power moments (Algorithm 5);
     // the published vectors of the other sets and the 16-bit mapping assume depths in [−1, 1].
     if (unitDepth_ && (o.text("moments") != "power4" || quantised_))
       throw std::invalid_argument("method 'mboit' option 'warp': unit (the thesis's depth in [0, 1]) needs moments=power4 storage=float");
-  }
-  const MethodInfo& info() const override { return mboitInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
     const std::string blend = quantised_ ? "normalised and quantised, read-modify-write in raster order"
                                          : "blended ONE, ONE";
     const std::string four = quantised_ ? "rgba16" : "rgba32f", two = quantised_ ? "rg16" : "rg32f";
-    a.push_back(colorAttachment("b0", "r32f", "C_Ms: Σ −ln(1 − α), " + std::string(quantised_ ? "read-modify-write" : "blended ONE, ONE")));
-    a.push_back(colorAttachment("moments", four, momentRange(0, 4) + ", " + blend));
-    if (set_.reals() > 4) a.push_back(colorAttachment("moments_more", set_.reals() == 6 ? two : four, momentRange(4, set_.reals()) + ", " + blend));
-    a.push_back(colorAttachment("accum", accumFormat_, "Σ(c·α·w, α·w), blended ONE, ONE"));
-    a.push_back(colorAttachment("reveal", "r32f", "Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
-    return a;
+    b0_ = declared.color("b0", "r32f", "C_Ms: Σ −ln(1 − α), " + std::string(quantised_ ? "read-modify-write" : "blended ONE, ONE"));
+    moments_ = declared.color("moments", four, momentRange(0, 4) + ", " + blend);
+    if (set_.reals() > 4) momentsMore_ = declared.color("moments_more", set_.reals() == 6 ? two : four, momentRange(4, set_.reals()) + ", " + blend);
+    accum_ = declared.color("accum", o.format("accum"), "Σ(c·α·w, α·w), blended ONE, ONE");
+    reveal_ = declared.color("reveal", "r32f", "Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR");
   }
+  const MethodInfo& info() const override { return mboitInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {
     const Profile& profile = context.profile;
-    Image& b0Image = t.color("b0");
-    Image* momentImages[2] = {&t.color("moments"), set_.reals() > 4 ? &t.color("moments_more") : nullptr};
-    Image& accum = t.color("accum");
-    Image& reveal = t.color("reveal");
+    Image& b0Image = t[b0_];
+    Image* momentImages[2] = {&t[moments_], set_.reals() > 4 ? &t[momentsMore_] : nullptr};
+    Image& accum = t[accum_];
+    Image& reveal = t[reveal_];
     b0Image.clear(glm::vec4(0.0f), profile);
     for (Image* m : momentImages)
       if (m) m->clear(glm::vec4(0.0f), profile);
@@ -129,7 +125,7 @@ class Mboit final : public OpaqueFirstMethod {
     };
 
     Framebuffer momentFb;
-    momentFb.depth = &t.depth("depth");
+    momentFb.depth = &t.depth();
     // The usual set — four power moments in fp32, the depth warped linearly or not at all —
     // runs passes of its own, decided here once: no per-fragment branch on the configuration.
     const bool usualSet = !quantised_ && reals == 4 && !set.trigonometric && !logWarp_;
@@ -308,7 +304,7 @@ class Mboit final : public OpaqueFirstMethod {
   float bias_, overestimation_;
   bool logWarp_, unitDepth_, saturate_;
   ResolveClamp clamp_;
-  std::string accumFormat_;
+  ColorHandle b0_, moments_, momentsMore_, accum_, reveal_;  // momentsMore_: more than four moments
 };
 
 }  // namespace

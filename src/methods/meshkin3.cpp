@@ -23,20 +23,16 @@ namespace {
 
 class Meshkin3 final : public OpaqueFirstMethod {
  public:
-  explicit Meshkin3(const MethodOptions& o) : format_(o.text("format")) {}
+  explicit Meshkin3(const MethodOptions& o)
+      : t1_(declared.color("t1", o.format("format"), "Σ(c·α, α), blended ONE, ONE")),
+        t2_(declared.color("t2", o.format("format"), "Σ(1/α, 1/α, 1/α, α), blended ONE, ONE")),
+        t3_(declared.color("t3", o.format("format"), "Π(c, α), blended ZERO, SRC_COLOR")) {}
   const MethodInfo& info() const override { return meshkin3Info(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("t1", format_, "Σ(c·α, α), blended ONE, ONE"));
-    a.push_back(colorAttachment("t2", format_, "Σ(1/α, 1/α, 1/α, α), blended ONE, ONE"));
-    a.push_back(colorAttachment("t3", format_, "Π(c, α), blended ZERO, SRC_COLOR"));
-    return a;
-  }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const Profile& profile = context.profile;
-    Image& t1 = t.color("t1");
-    Image& t2 = t.color("t2");
-    Image& t3 = t.color("t3");
+    Image& t1 = t[t1_];
+    Image& t2 = t[t2_];
+    Image& t3 = t[t3_];
     t1.clear(glm::vec4(0.0f), profile);
     t2.clear(glm::vec4(0.0f), profile);
     t3.clear(glm::vec4(1.0f), profile);
@@ -44,7 +40,7 @@ class Meshkin3 final : public OpaqueFirstMethod {
     Framebuffer sums;
     sums.color[0] = &t1;
     sums.color[1] = &t2;
-    sums.depth = &t.depth("depth");
+    sums.depth = &t.depth();
     run.transparentPass("sums", sums, transparentState(profile, additiveBlend()),
                         [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
                           out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));
@@ -52,7 +48,7 @@ class Meshkin3 final : public OpaqueFirstMethod {
                         });
     Framebuffer product;
     product.color[0] = &t3;
-    product.depth = &t.depth("depth");
+    product.depth = &t.depth();
     run.transparentPass("product", product,
                         transparentState(profile, detail::states::kProduct),
                         [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) { out.write(0, c); });
@@ -66,7 +62,7 @@ class Meshkin3 final : public OpaqueFirstMethod {
   }
 
  private:
-  std::string format_;
+  ColorHandle t1_, t2_, t3_;
 };
 
 }  // namespace

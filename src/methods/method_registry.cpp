@@ -102,8 +102,9 @@ std::string OptionNumber::describe() const {
 
 MethodOptions::MethodOptions(const MethodInfo& info, const std::map<std::string, std::string>& given)
     : method_(info.name) {
-  std::vector<MethodOption> options = info.options;
-  if (!info.presets.empty()) options.push_back(presetOption(info));
+  options_ = info.options;
+  if (!info.presets.empty()) options_.push_back(presetOption(info));
+  const std::vector<MethodOption>& options = options_;
   std::vector<std::string> keys;
   for (const MethodOption& o : options) {
     values_[o.key] = o.defaultValue;
@@ -124,7 +125,7 @@ MethodOptions::MethodOptions(const MethodInfo& info, const std::map<std::string,
     checkNumber(info.name, *option, value);
   }
   // The preset's values first, then every option given (the preset's name among them). A preset
-  // names only declared options (at() throws otherwise; the methods test runs every preset).
+  // names only declared options (registerMethod has checked every preset).
   if (const auto chosen = given.find("preset"); chosen != given.end())
     for (const MethodPreset& p : info.presets)
       if (p.name == chosen->second)
@@ -146,6 +147,31 @@ double MethodOptions::number(const std::string& key) const {
 }
 
 bool MethodOptions::flag(const std::string& key) const { return values_.at(key) == "true"; }
+
+int MethodOptions::integer(const std::string& key) const {
+  const double d = number(key);
+  if (d != std::floor(d) || std::fabs(d) > 0x1p31)
+    throw std::invalid_argument("method '" + method_ + "' option '" + key + "': '" + values_.at(key) + "' is not an integer");
+  return int(d);
+}
+
+Format MethodOptions::format(const std::string& key) const {
+  try {
+    return parseFormat(values_.at(key));
+  } catch (const std::exception& e) {
+    throw std::invalid_argument("method '" + method_ + "' option '" + key + "': " + e.what());
+  }
+}
+
+int MethodOptions::choiceIndex(const std::string& key) const {
+  for (const MethodOption& o : options_)
+    if (o.key == key) {
+      const auto it = std::find(o.choices.begin(), o.choices.end(), values_.at(key));
+      if (it == o.choices.end()) throw std::logic_error("method '" + method_ + "' option '" + key + "' has no choices to index");
+      return int(it - o.choices.begin());
+    }
+  throw std::logic_error("method '" + method_ + "' has no option '" + key + "'");
+}
 
 double FrameResult::frameMs() const {
   double ms = 0;

@@ -23,30 +23,27 @@ constexpr float kEmptyNode = 2.0f;  // a node depth's clear value: behind every 
 class LayeredNodes final : public OpaqueFirstMethod {
  public:
   LayeredNodes(const MethodOptions& o, bool merge)
-      : k_(int(o.number("k"))), nodeFormat_(o.text("node")), merge_(merge) {}
-  const MethodInfo& info() const override { return merge_ ? mlabInfo() : kbufferInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
+      : k_(o.integer("k")), merge_(merge) {
     for (int i = 0; i < k_; ++i)
-      a.push_back(colorAttachment("node_depth_" + std::to_string(i), "r32f", "depth of node " + std::to_string(i)));
+      nodeDepth_.push_back(declared.color("node_depth_" + std::to_string(i), "r32f", "depth of node " + std::to_string(i)));
     for (int i = 0; i < k_; ++i)
-      a.push_back(colorAttachment("node_color_" + std::to_string(i), nodeFormat_,
-                                  "premultiplied colour and transmittance of node " + std::to_string(i)));
-    return a;
+      nodeColor_.push_back(declared.color("node_color_" + std::to_string(i), o.format("node"),
+                                          "premultiplied colour and transmittance of node " + std::to_string(i)));
   }
+  const MethodInfo& info() const override { return merge_ ? mlabInfo() : kbufferInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const int k = k_;
     const bool merge = merge_;
     const Profile& profile = context.profile;
     std::vector<Image*> depth, color;
     for (int i = 0; i < k; ++i) {
-      depth.push_back(&t.color("node_depth_" + std::to_string(i)));
-      color.push_back(&t.color("node_color_" + std::to_string(i)));
+      depth.push_back(&t[nodeDepth_[size_t(i)]]);
+      color.push_back(&t[nodeColor_[size_t(i)]]);
       depth.back()->clear(glm::vec4(kEmptyNode), profile);
       color.back()->clear({0, 0, 0, 1}, profile);
     }
     Framebuffer none;
-    none.depth = &t.depth("depth");
+    none.depth = &t.depth();
     run.transparentPass(merge ? "insert and merge" : "insert", none, transparentState(profile, BlendState{}),
                         [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput&) {
                           const glm::vec4 node(glm::vec3(c) * c.a, 1.0f - c.a);
@@ -93,7 +90,7 @@ class LayeredNodes final : public OpaqueFirstMethod {
   }
 
   int k_;
-  std::string nodeFormat_;
+  std::vector<ColorHandle> nodeDepth_, nodeColor_;
   bool merge_;
 };
 

@@ -22,22 +22,19 @@ namespace {
 
 class Mt final : public OpaqueFirstMethod {
  public:
-  explicit Mt(const MethodOptions& o) : bias_(float(o.number("bias"))), accumFormat_(o.text("accum")) {}
+  explicit Mt(const MethodOptions& o)
+      : bias_(float(o.number("bias"))),
+        opticalDepth_(declared.color("optical_depth", "r32f", "Σ −ln(1 − α), blended ONE, ONE")),
+        moments_(declared.color("moments", "rgba32f", "Σ −ln(1 − α)·(u, u², u³, u⁴), blended ONE, ONE")),
+        accum_(declared.color("accum", o.format("accum"), "Σ(c·α·w, α·w), blended ONE, ONE")),
+        reveal_(declared.color("reveal", "r32f", "Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR")) {}
   const MethodInfo& info() const override { return mtInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("optical_depth", "r32f", "Σ −ln(1 − α), blended ONE, ONE"));
-    a.push_back(colorAttachment("moments", "rgba32f", "Σ −ln(1 − α)·(u, u², u³, u⁴), blended ONE, ONE"));
-    a.push_back(colorAttachment("accum", accumFormat_, "Σ(c·α·w, α·w), blended ONE, ONE"));
-    a.push_back(colorAttachment("reveal", "r32f", "Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
-    return a;
-  }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {
     const Profile& profile = context.profile;
-    Image& opticalDepth = t.color("optical_depth");
-    Image& moments = t.color("moments");
-    Image& accum = t.color("accum");
-    Image& reveal = t.color("reveal");
+    Image& opticalDepth = t[opticalDepth_];
+    Image& moments = t[moments_];
+    Image& accum = t[accum_];
+    Image& reveal = t[reveal_];
     opticalDepth.clear(glm::vec4(0.0f), profile);
     moments.clear(glm::vec4(0.0f), profile);
     accum.clear(glm::vec4(0.0f), profile);
@@ -58,7 +55,7 @@ class Mt final : public OpaqueFirstMethod {
     Framebuffer momentFb;
     momentFb.color[0] = &opticalDepth;
     momentFb.color[1] = &moments;
-    momentFb.depth = &t.depth("depth");
+    momentFb.depth = &t.depth();
     // The optical depths −ln(1 − α) of a batch together (detLogBatch: the same bits as detLog).
     run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
                              [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput& out) {
@@ -108,7 +105,7 @@ class Mt final : public OpaqueFirstMethod {
 
  private:
   float bias_;
-  std::string accumFormat_;
+  ColorHandle opticalDepth_, moments_, accum_, reveal_;
 };
 
 }  // namespace

@@ -8,12 +8,12 @@ namespace {
 class Opaque final : public Method {
  public:
   const MethodInfo& info() const override { return opaqueInfo(); }
-  std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
+  std::vector<AttachmentDecl> attachments() const override { return AttachmentList().declared(); }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
     FrameTargets targets(attachments(), context);
     PassRunner(context, result).opaquePass(targets, /*everything=*/true);
-    targets.finish(result, "opaque");
+    targets.finish(result, AttachmentList::kOpaque);
     return result;
   }
 };

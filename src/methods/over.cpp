@@ -14,7 +14,6 @@ class Over final : public OpaqueFirstMethod {
  public:
   explicit Over(const MethodOptions& o) : faces_(o.text("faces")) {}
   const MethodInfo& info() const override { return overInfo(); }
-  std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& targets, FrameResult& /*result*/) override {
     Framebuffer fb = targets.present(true);
     for (const auto& [name, cull] : overDraws(faces_)) {

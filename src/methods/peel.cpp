@@ -16,21 +16,18 @@ namespace {
 
 class Peel final : public OpaqueFirstMethod {
  public:
-  explicit Peel(const MethodOptions& o) : passes_(int(o.number("passes"))), layerFormat_(o.text("layer")) {}
+  explicit Peel(const MethodOptions& o)
+      : passes_(o.integer("passes")),
+        layer_(declared.color("layer", o.format("layer"), "C2: the layer peeled this pass, (c·α, α)")),
+        layerDepth_(declared.depth("layer_depth", DepthFormat::D24, "D2: depth of the layer peeled this pass")),
+        peeledDepth_(declared.depth("peeled_depth", DepthFormat::D24, "D3: depth of the previous layer")),
+        accum_(declared.color("accum", o.format("layer"), "C3: layers so far, front to back; alpha = transmittance")) {}
   const MethodInfo& info() const override { return peelInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("layer", layerFormat_, "C2: the layer peeled this pass, (c·α, α)"));
-    a.push_back(depthAttachment("layer_depth", "D2: depth of the layer peeled this pass"));
-    a.push_back(depthAttachment("peeled_depth", "D3: depth of the previous layer"));
-    a.push_back(colorAttachment("accum", layerFormat_, "C3: layers so far, front to back; alpha = transmittance"));
-    return a;
-  }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {  // after steps 2–3, the opaque pass
-    Image& layer = t.color("layer");
-    Image& accum = t.color("accum");
-    DepthBuffer& layerDepth = t.depth("layer_depth");
-    DepthBuffer& peeledDepth = t.depth("peeled_depth");
+    Image& layer = t[layer_];
+    Image& accum = t[accum_];
+    DepthBuffer& layerDepth = t[layerDepth_];
+    DepthBuffer& peeledDepth = t[peeledDepth_];
     accum.clear({0, 0, 0, 1}, context.profile);                    // step 1
     peeledDepth.clear(0.0);
     Framebuffer layerFb;
@@ -47,7 +44,7 @@ class Peel final : public OpaqueFirstMethod {
     int peeledPasses = 0;
     bool exhausted = false;
     for (int pass = 0; pass < passes_; ++pass) {                    // step 4
-      layerDepth = t.depth("depth");                                // step 5: D2 ← D1
+      layerDepth = t.depth();                                       // step 5: D2 ← D1
       layer.clear(glm::vec4(0.0f), context.profile);                // step 6
       const DepthFormat format = peeledDepth.format();
       // The fragment is kept where it lies strictly behind the previous layer: the shader's own
@@ -95,7 +92,9 @@ class Peel final : public OpaqueFirstMethod {
 
  private:
   int passes_;
-  std::string layerFormat_;
+  ColorHandle layer_;
+  DepthHandle layerDepth_, peeledDepth_;
+  ColorHandle accum_;
 };
 
 }  // namespace

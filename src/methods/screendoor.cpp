@@ -32,7 +32,6 @@ class Screendoor final : public OpaqueFirstMethod {
  public:
   explicit Screendoor(const MethodOptions& o) : n_(int(o.number("mask"))) {}
   const MethodInfo& info() const override { return screendoorInfo(); }
-  std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     Framebuffer fb = t.present(/*withDepth=*/true);
     PipelineState solid;

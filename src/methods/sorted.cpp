@@ -23,7 +23,6 @@ class Sorted final : public OpaqueFirstMethod {
  public:
   explicit Sorted(const MethodOptions& o) : byTriangle_(o.text("sort") == "triangle") {}
   const MethodInfo& info() const override { return sortedInfo(); }
-  std::vector<AttachmentDecl> attachments() const override { return opaqueAttachments(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& targets, FrameResult& result) override {
     const glm::mat4 view = context.scene.camera.view();
     std::vector<Triangle> order;

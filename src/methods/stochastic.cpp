@@ -51,16 +51,13 @@ namespace {
 class Stochastic final : public OpaqueFirstMethod {
  public:
   explicit Stochastic(const MethodOptions& o)
-      : samples_(int(o.number("samples"))), seed_(uint32_t(o.number("seed"))), accumFormat_(o.text("accum")) {}
-  const MethodInfo& info() const override { return stochasticInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
+      : samples_(o.integer("samples")), seed_(uint32_t(o.number("seed"))) {
     for (int s = 0; s < samples_; ++s)
-      a.push_back(depthAttachment("sample_depth_" + std::to_string(s), "stochastic depth of sample " + std::to_string(s)));
-    a.push_back(colorAttachment("accum", accumFormat_, "Σ(c·α·v, α·v), v the share of samples not in front, ONE, ONE"));
-    a.push_back(colorAttachment("reveal", singleChannelFormat(accumFormat_), "Π(1 − α), ZERO, ONE_MINUS_SRC_COLOR"));
-    return a;
+      sampleDepth_.push_back(declared.depth("sample_depth_" + std::to_string(s), DepthFormat::D24, "stochastic depth of sample " + std::to_string(s)));
+    accum_ = declared.color("accum", o.format("accum"), "Σ(c·α·v, α·v), v the share of samples not in front, ONE, ONE");
+    reveal_ = declared.color("reveal", singleChannelFormat(o.text("accum")), "Π(1 − α), ZERO, ONE_MINUS_SRC_COLOR");
   }
+  const MethodInfo& info() const override { return stochasticInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {
     const int samples = samples_;
     const uint32_t seed = seed_;
@@ -69,8 +66,8 @@ class Stochastic final : public OpaqueFirstMethod {
     solid.profile = context.profile;
     solid.depth = {true, CompareFunc::Less, true, false};
     for (int s = 0; s < samples; ++s) {
-      DepthBuffer& d = t.depth("sample_depth_" + std::to_string(s));
-      d = t.depth("depth");  // the opaque surfaces are in every sample
+      DepthBuffer& d = t[sampleDepth_[size_t(s)]];
+      d = t.depth();  // the opaque surfaces are in every sample
       sampleDepth.push_back(&d);
       Framebuffer fb;
       fb.depth = &d;
@@ -82,17 +79,17 @@ class Stochastic final : public OpaqueFirstMethod {
                           },
                           /*mayDiscard=*/true, /*pure=*/true);
     }
-    Image& accum = t.color("accum");
-    Image& reveal = t.color("reveal");
+    Image& accum = t[accum_];
+    Image& reveal = t[reveal_];
     accum.clear(glm::vec4(0.0f), context.profile);
     reveal.clear(glm::vec4(1.0f), context.profile);
     Framebuffer fb;
     fb.color[0] = &accum;
     fb.color[1] = &reveal;
-    fb.depth = &t.depth("depth");
+    fb.depth = &t.depth();
     PipelineState st = transparentState(context.profile, additiveBlend());
     st.blend[1] = revealageBlend();
-    const DepthFormat format = t.depth("depth").format();
+    const DepthFormat format = t.depth().format();
     run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
       const uint32_t z = encodeDepth(in.depth, format);
       int visible = 0;
@@ -107,7 +104,8 @@ class Stochastic final : public OpaqueFirstMethod {
  private:
   int samples_;
   uint32_t seed_;
-  std::string accumFormat_;
+  std::vector<DepthHandle> sampleDepth_;
+  ColorHandle accum_, reveal_;
 };
 
 }  // namespace

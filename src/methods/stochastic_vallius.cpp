@@ -36,19 +36,15 @@ float valliusRandom(uint32_t seed, int x, int y, int sample, uint32_t object, ui
 class StochasticVallius final : public OpaqueFirstMethod {
  public:
   explicit StochasticVallius(const MethodOptions& o)
-      : samples_(int(o.number("samples"))), seed_(uint32_t(o.number("seed"))), format_(o.text("accum")) {}
+      : samples_(o.integer("samples")), seed_(uint32_t(o.number("seed"))),
+        total_(declared.color("total", singleChannelFormat(o.text("accum")), "totalAlpha: Π(1 − α), ZERO, ONE_MINUS_SRC_COLOR")),
+        samplesImage_(declared.color("samples", o.format("accum"), "transparentObjects: the last pass's nearest surviving fragment")),
+        sampleDepth_(declared.depth("sample_depth", DepthFormat::D24, "transparentObjects' own depth, cleared before each pass")) {}
   const MethodInfo& info() const override { return stochasticInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("total", singleChannelFormat(format_), "totalAlpha: Π(1 − α), ZERO, ONE_MINUS_SRC_COLOR"));
-    a.push_back(colorAttachment("samples", format_, "transparentObjects: the last pass's nearest surviving fragment"));
-    a.push_back(depthAttachment("sample_depth", "transparentObjects' own depth, cleared before each pass"));
-    return a;
-  }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {  // after step 1, the opaque pass
-    Image& total = t.color("total");
-    Image& samples = t.color("samples");
-    DepthBuffer& sampleDepth = t.depth("sample_depth");
+    Image& total = t[total_];
+    Image& samples = t[samplesImage_];
+    DepthBuffer& sampleDepth = t[sampleDepth_];
     total.clear(glm::vec4(1.0f, 0.0f, 0.0f, 0.0f), context.profile);                // step 2
     Framebuffer totalFb;
     totalFb.color[0] = &total;
@@ -86,7 +82,8 @@ class StochasticVallius final : public OpaqueFirstMethod {
  private:
   int samples_;
   uint32_t seed_;
-  std::string format_;
+  ColorHandle total_, samplesImage_;
+  DepthHandle sampleDepth_;
 };
 
 }  // namespace

@@ -20,24 +20,20 @@ namespace {
 class Wavg final : public OpaqueFirstMethod {
  public:
   explicit Wavg(const MethodOptions& o)
-      : accumFormat_(o.text("accum")), thesis_(o.text("transmittance") == "thesis_eq2.2"),
+      : accum_(declared.color("accum", o.format("accum"), "C2q: Σ(c·α, α), blended ONE, ONE")),
+        count_(declared.color("count", singleChannelFormat(o.text("accum")), "C2s: n, blended ONE, ONE")),
+        thesis_(o.text("transmittance") == "thesis_eq2.2"),
         clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp::atLeast(1e-4f)) {}
   const MethodInfo& info() const override { return wavgInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("accum", accumFormat_, "C2q: Σ(c·α, α), blended ONE, ONE"));
-    a.push_back(colorAttachment("count", singleChannelFormat(accumFormat_), "C2s: n, blended ONE, ONE"));
-    return a;
-  }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {  // after steps 1–3, the opaque pass
-    Image& accum = t.color("accum");
-    Image& count = t.color("count");
+    Image& accum = t[accum_];
+    Image& count = t[count_];
     accum.clear(glm::vec4(0.0f), context.profile);                  // step 4
     count.clear(glm::vec4(0.0f), context.profile);                  // step 5
     Framebuffer fb;
     fb.color[0] = &accum;
     fb.color[1] = &count;
-    fb.depth = &t.depth("depth");                                   // step 6
+    fb.depth = &t.depth();                                          // step 6
     const PipelineState st = transparentState(context.profile, additiveBlend());  // steps 7–8
     run.transparentPass("accumulate", fb, st, [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
       out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));             // step 9: S_accum
@@ -57,7 +53,7 @@ class Wavg final : public OpaqueFirstMethod {
   }
 
  private:
-  std::string accumFormat_;
+  ColorHandle accum_, count_;
   bool thesis_;
   ResolveClamp clamp_;
 };

@@ -36,14 +36,8 @@
 namespace oitref::methods {
 namespace {
 
+// The option weight=…, in the order of its choices (MethodOptions::choice).
 enum class Weight { One, Z3, Z5, AZ3, AZ5, MB7, MB8, MB9, MB10 };
-
-Weight parseWeight(const std::string& w) {
-  static const char* names[] = {"one", "z3", "z5", "az3", "az5", "mb7", "mb8", "mb9", "mb10"};
-  for (int i = 0; i < 9; ++i)
-    if (w == names[i]) return Weight(i);
-  return Weight::One;  // MethodOptions has already checked the choice
-}
 
 template <Weight Kind>
 float weightAs(float alpha, float windowZ, float viewZ) {
@@ -88,7 +82,7 @@ float weight(Weight kind, float alpha, float windowZ, float viewZ) {
 class Wboit final : public OpaqueFirstMethod {
  public:
   explicit Wboit(const MethodOptions& o)
-      : accumFormat_(o.text("accum")), revealFormat_(o.text("reveal")), weight_(parseWeight(o.text("weight"))),
+      : weight_(o.choice<Weight>("weight")),
         adaptive_(o.flag("adaptive")), single_(o.text("layout") == "single"),
         clamp_(resolveClampOption(o)) {
     // The thesis makes its own weights W1–W5 adaptive (z / z_s in place of z); McGuire–Bavoil's
@@ -96,27 +90,23 @@ class Wboit final : public OpaqueFirstMethod {
     if (adaptive_ && weight_ >= Weight::MB7)
       throw std::invalid_argument("method 'wboit' option 'adaptive': defined for the thesis weights one, z3, z5, az3, az5 only, not " +
                                   o.text("weight"));
+    if (single_) {
+      accum_ = declared.color("accum", o.format("accum"), "(Σ c·α·w, Π(1 − α)): RGB ONE, ONE; alpha ZERO, ONE_MINUS_SRC_ALPHA");
+      weights_ = declared.color("weights", singleChannelFormat(o.text("accum")), "Σ α·w, the same blend function");
+      return;
+    }
+    accum_ = declared.color("accum", o.format("accum"), "C2q: Σ(c·α·w, α·w), blended ONE, ONE");
+    reveal_ = declared.color("reveal", o.format("reveal"), "C2s: Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR");
   }
   const MethodInfo& info() const override { return wboitInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    if (single_) {
-      a.push_back(colorAttachment("accum", accumFormat_, "(Σ c·α·w, Π(1 − α)): RGB ONE, ONE; alpha ZERO, ONE_MINUS_SRC_ALPHA"));
-      a.push_back(colorAttachment("weights", singleChannelFormat(accumFormat_), "Σ α·w, the same blend function"));
-      return a;
-    }
-    a.push_back(colorAttachment("accum", accumFormat_, "C2q: Σ(c·α·w, α·w), blended ONE, ONE"));
-    a.push_back(colorAttachment("reveal", revealFormat_, "C2s: Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR"));
-    return a;
-  }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {  // after steps 1–3, the opaque pass
     if (single_) {
       accumulateSingle(context, t, run);
       return;
     }
-    Image& accum = t.color("accum");
-    Image& reveal = t.color("reveal");
-    const DepthBuffer& depth = t.depth("depth");
+    Image& accum = t[accum_];
+    Image& reveal = t[reveal_];
+    const DepthBuffer& depth = t.depth();
     reveal.clear(glm::vec4(1.0f), context.profile);                  // step 5
     accum.clear(glm::vec4(0.0f), context.profile);                   // step 6
     // Steps 4, 7–12: accum += (c·α·w, α·w) (S_accum, eq. 2.6), reveal *= (1 − α).
@@ -141,15 +131,15 @@ class Wboit final : public OpaqueFirstMethod {
  private:
   // Listing 4.
   void accumulateSingle(const FrameContext& context, FrameTargets& t, PassRunner& run) {
-    Image& accum = t.color("accum");
-    Image& weights = t.color("weights");
-    const DepthBuffer& depth = t.depth("depth");
+    Image& accum = t[accum_];
+    Image& weights = t[weights_];
+    const DepthBuffer& depth = t.depth();
     accum.clear({0, 0, 0, 1}, context.profile);
     weights.clear({0, 0, 0, 1}, context.profile);
     Framebuffer fb;
     fb.color[0] = &accum;
     fb.color[1] = &weights;
-    fb.depth = &t.depth("depth");
+    fb.depth = &t.depth();
     PipelineState st = transparentState(context.profile, singleTargetWeightedBlend());
     const Weight kind = weight_;
     const bool adaptive = adaptive_;
@@ -167,7 +157,7 @@ class Wboit final : public OpaqueFirstMethod {
     });
   }
 
-  std::string accumFormat_, revealFormat_;
+  ColorHandle accum_, reveal_, weights_;  // reveal_ with layout=mrt, weights_ with layout=single
   Weight weight_;
   bool adaptive_, single_;
   ResolveClamp clamp_;

@@ -10,31 +10,28 @@ namespace {
 
 class Wsum final : public Method {
  public:
-  explicit Wsum(const MethodOptions& o) : accumFormat_(o.text("accum")) {}
+  explicit Wsum(const MethodOptions& o)
+      : accum_(declared_.color("accum", o.format("accum"), "C2: Σ(c·α, α), blended ONE, ONE")),
+        final_(declared_.color("final", "rgba8", "C3: the composite")) {}
   const MethodInfo& info() const override { return wsumInfo(); }
-  std::vector<AttachmentDecl> attachments() const override {
-    std::vector<AttachmentDecl> a = opaqueAttachments();
-    a.push_back(colorAttachment("accum", accumFormat_, "C2: Σ(c·α, α), blended ONE, ONE"));
-    a.push_back(colorAttachment("final", "rgba8", "C3: the composite"));
-    return a;
-  }
+  std::vector<AttachmentDecl> attachments() const override { return declared_.declared(); }
   FrameResult render(const FrameContext& context) override {
     FrameResult result;
     FrameTargets t(attachments(), context);
     PassRunner run(context, result);
     run.opaquePass(t);                                    // steps 1–3
-    Image& opaque = t.color("opaque");
-    Image& accum = t.color("accum");
+    Image& opaque = t.opaque();
+    Image& accum = t[accum_];
     accum.clear(glm::vec4(0.0f), context.profile);        // step 4
     Framebuffer fb;                                       // step 5: D2 ← D1 (the same depth)
     fb.color[0] = &accum;
-    fb.depth = &t.depth("depth");
+    fb.depth = &t.depth();
     const PipelineState st = transparentState(context.profile, additiveBlend());  // steps 6–8
     run.transparentBatchPass("accumulate", fb, st, [](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput& out) {
       for (int i = 0; i < in.count; ++i) out.write(i, 0, glm::vec4(glm::vec3(c[i]) * c[i].a, c[i].a));  // step 9
     });
     // Step 11: C_f = C2.rgb + C1.rgb·(1 − C2.a), a full-screen pass into C3 (and the analysis copy).
-    Image& final = t.color("final");
+    Image& final = t[final_];
     Image& analysis = t.analysis();
     Framebuffer out;
     out.color[0] = &final;
@@ -52,12 +49,13 @@ class Wsum final : public Method {
         o.write(i, 1, glm::vec4(glm::vec3(sum[i]) + glm::vec3(c0[i]) * background, 1.0f));
       }
     }));
-    t.finish(result, "final");
+    t.finish(result, final_);
     return result;
   }
 
  private:
-  std::string accumFormat_;
+  AttachmentList declared_;
+  ColorHandle accum_, final_;
 };
 
 }  // namespace
