@@ -5,21 +5,24 @@
 #
 # oitref::core is formats, blending, depth and the pipeline (GLM and oneTBB only); oitref::scene
 # loads scene files; oitref::oit adds the methods, the ground truths, image files and the one-call
-# frame API (oitref/frame.h). The static libraries' own dependencies are found again by the
+# frame API (oitref/frame.h); oitref::apps is the command line as a library (oitref/cli.h: a
+# program that registers its own methods and runs `oitref study` on them). The static libraries' own dependencies are found again by the
 # package's config (Debian 12's packages, as for the build).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(_oitref_exported oitref_lib oitref_scene oitref_methods oitref_flags oitref_oiio)
+set(_oitref_exported oitref_lib oitref_scene oitref_methods oitref_tools oitref_flags oitref_oiio)
 set_target_properties(oitref_lib PROPERTIES EXPORT_NAME core)
 set_target_properties(oitref_scene PROPERTIES EXPORT_NAME scene)
 set_target_properties(oitref_methods PROPERTIES EXPORT_NAME oit)
+set_target_properties(oitref_tools PROPERTIES EXPORT_NAME apps)
 set_target_properties(oitref_flags PROPERTIES EXPORT_NAME flags)
 set_target_properties(oitref_oiio PROPERTIES EXPORT_NAME oiio)
 # The same names inside this build (for a project that adds oitref with add_subdirectory).
 add_library(oitref::core ALIAS oitref_lib)
 add_library(oitref::scene ALIAS oitref_scene)
 add_library(oitref::oit ALIAS oitref_methods)
+add_library(oitref::apps ALIAS oitref_tools)
 foreach(_t IN LISTS _oitref_exported)
   target_include_directories(${_t} INTERFACE $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 endforeach()

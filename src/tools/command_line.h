@@ -15,6 +15,10 @@ using AddCommandFn = void (*)(CLI::App& app, int& exitCode);
 // its exit status, or CLI11's for a malformed command line.
 int runCommandLine(int argc, char** argv, AddCommandFn extra);
 
+// The program around it (oitref/cli.h's runCommandLine, and main with glcheck's command): the
+// CPU check, the floating-point defaults, the allocator's set-up, then runCommandLine.
+int runProgram(int argc, char** argv, AddCommandFn extra);
+
 // glcheck's subcommand (src/glcheck/glcheck_command.cpp), only when built with OITREF_HAVE_GLCHECK.
 void addGlcheckCommand(CLI::App& app, int& exitCode);
 

@@ -61,7 +61,7 @@ void addStressCommand(CLI::App& app, int& exitCode) {
   nonEmptyPath(cmd->add_option("--out", o->out, "Atlas folder"))->capture_default_str();
   cmd->add_option("--conditions", o->conditions, "Only these conditions (base, colocated, wide, distant, scaled_x100, "
                                                  "scaled_x0.01, hdr, bright)");
-  cmd->add_option("--methods", o->methods, "Only these methods");
+  cmd->add_option("--methods", o->methods, "Only these methods (comma- or space-separated)")->delimiter(',');
   cmd->add_option("--max-layers", o->maxLayers, "Largest layer count of the sweep (default 4096)")->capture_default_str();
   cmd->add_option("--size", o->size, "Pixels per side of each cell's image")->check(CLI::Range(1, 64))->capture_default_str();
   cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));

@@ -69,7 +69,7 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   CLI::App* cmd = app.add_subcommand("study", "Time every method and variant on scenes, measure their error, write an HTML report");
   cmd->add_option("scenes", o->scenes, "Scene files (default: every scenes/*.json)");
   nonEmptyPath(cmd->add_option("--out", o->out, "Report folder"))->capture_default_str();
-  cmd->add_option("--methods", o->methods, "Only these methods (the A-buffer and the ray cast always run)");
+  cmd->add_option("--methods", o->methods, "Only these methods, comma- or space-separated (the A-buffer and the ray cast always run)")->delimiter(',');
   cmd->add_option("--size", o->size, "Override the scenes' resolution, WxH");
   cmd->add_option("--runs", o->runs, "Timed runs per configuration, after one warm-up (which counts as the first run where it took 100 ms or more)")->capture_default_str();
   cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
