@@ -131,9 +131,8 @@ inline void forEachPixel(const Check& check) {
   const int w = ref.scene.width;
   for (int y = 0; y < ref.scene.height; ++y)
     for (int x = 0; x < w; ++x) {
-      const size_t p = size_t(y) * w + x;
-      std::vector<TransparentFragment> f(ref.abuffer.fragments.begin() + std::ptrdiff_t(ref.abuffer.fragmentStart[p]),
-                                         ref.abuffer.fragments.begin() + std::ptrdiff_t(ref.abuffer.fragmentStart[p + 1]));
+      const auto stored = ref.abuffer.fragmentLists.at(x, y);
+      std::vector<TransparentFragment> f(stored.begin(), stored.end());
       check(x, y, f, glm::dvec3(glm::vec3(ref.background.fetch(x, y))));
     }
 }

@@ -41,11 +41,12 @@ TEST_CASE("methods: a pooled frame gives the bits of a fresh one", "[methods]") 
       }
       CHECK(frameHash(pooled) == frameHash(fresh));
       // The A-buffer's fragment lists too, stored into the pool's kept buffer (the other scene's).
-      CHECK(pooled.fragmentStart == fresh.fragmentStart);
-      REQUIRE(pooled.fragments.size() == fresh.fragments.size());
-      if (!fresh.fragments.empty())  // memcmp's pointers must not be null, even for no bytes
-        CHECK(std::memcmp(pooled.fragments.data(), fresh.fragments.data(),
-                          fresh.fragments.size() * sizeof(TransparentFragment)) == 0);
+      const FragmentLists &pooledLists = pooled.fragmentLists, &freshLists = fresh.fragmentLists;
+      CHECK(pooledLists.start == freshLists.start);
+      REQUIRE(pooledLists.fragments.size() == freshLists.fragments.size());
+      if (!freshLists.fragments.empty())  // memcmp's pointers must not be null, even for no bytes
+        CHECK(std::memcmp(pooledLists.fragments.data(), freshLists.fragments.data(),
+                          freshLists.fragments.size() * sizeof(TransparentFragment)) == 0);
       // Balanced: giving a frame back leaves the pool as it was, so repeated frames do not grow it.
       pool.recycle(FrameResult(pooled));
       CHECK(pool.size() == kept);

@@ -33,8 +33,7 @@ TEST_CASE("ground truth: the A-buffer and the ray caster agree on every built-in
     }
     auto objectsAt = [&](int x, int y) {
       std::set<uint32_t> objects;
-      const size_t p = size_t(y) * w + x;
-      for (uint64_t i = abuffer.fragmentStart[p]; i < abuffer.fragmentStart[p + 1]; ++i) objects.insert(abuffer.fragments[i].object);
+      for (const TransparentFragment& f : abuffer.fragmentLists.at(x, y)) objects.insert(f.object);
       for (const auto& [object, cover] : opaqueCover)
         if (cover.fetch(x, y).r >= 0.0f) objects.insert(object);
       return objects;

@@ -54,9 +54,8 @@ TEST_CASE("methods: the A-buffer sorts deep lists whatever their submission orde
     const FrameResult f = render(scene, "abuffer", {{"precision", "double"}});
     for (int y = 0; y < 8; ++y)
       for (int x = 0; x < 8; ++x) {
-        const size_t p = size_t(y) * 8 + x;
-        const std::vector<TransparentFragment> list(f.fragments.begin() + std::ptrdiff_t(f.fragmentStart[p]),
-                                                    f.fragments.begin() + std::ptrdiff_t(f.fragmentStart[p + 1]));
+        const auto stored = f.fragmentLists.at(x, y);
+        const std::vector<TransparentFragment> list(stored.begin(), stored.end());
         REQUIRE(list.size() == 60);
         requireClose(f.finalFloat, x, y, overBackToFront(list, glm::dvec3(glm::vec3(scene.background))), 4 * kU32,
                      "abuffer");

@@ -566,9 +566,8 @@ TEST_CASE("mboit storage=unorm16: the stored moments are the normalised moments,
   const float zs[4] = {0.0f, -1.5f, -4.0f, 0.8f}, alphas[4] = {0.3f, 0.6f, 0.45f, 0.2f};
   for (int i = 0; i < 4; ++i) s.objects.push_back(quad({0, 0, zs[i]}, 40, {0.9f, 0.5f, 0.1f, alphas[i]}));
   const FrameResult truth = render(s, "abuffer");
-  const size_t p = 4 * 8 + 4;
-  const std::vector<TransparentFragment> f(truth.fragments.begin() + std::ptrdiff_t(truth.fragmentStart[p]),
-                                           truth.fragments.begin() + std::ptrdiff_t(truth.fragmentStart[p + 1]));
+  const auto stored = truth.fragmentLists.at(4, 4);
+  const std::vector<TransparentFragment> f(stored.begin(), stored.end());
   REQUIRE(f.size() == 4);
   const Camera& cam = s.camera;
   for (const char* name : kSets) {

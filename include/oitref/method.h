@@ -18,6 +18,7 @@
 
 #include "oitref/depth.h"
 #include "oitref/format.h"
+#include "oitref/fragment_lists.h"
 #include "oitref/frame_stats.h"
 #include "oitref/image.h"
 #include "oitref/memory_limit.h"
@@ -140,23 +141,13 @@ struct PassReport {
   DrawStats stats;
 };
 
-// One transparent fragment as the A-buffer stores it.
-struct TransparentFragment {
-  float windowDepth, viewDepth;
-  glm::vec4 color;  // straight RGBA from the object's shading
-  uint32_t object, primitive;
-};
-
 struct FrameResult {
   Image final8;      // the presented RGBA8 target ("opaque" after compositing)
   Image finalFloat;  // the same composite into the RGBA32F analysis target
   std::vector<PassReport> passes;
   FrameStats stats;                                        // what the frame reports about its own work
   std::vector<std::pair<std::string, Image>> dump;         // every colour attachment, by name
-  // The A-buffer's fragments per pixel in submission order: pixel p = y·width + x owns
-  // fragments[fragmentStart[p] .. fragmentStart[p + 1]). Empty for other methods.
-  std::vector<uint64_t> fragmentStart;
-  std::vector<TransparentFragment> fragments;
+  FragmentLists fragmentLists;  // the A-buffer's (oitref/fragment_lists.h); empty for other methods
 
   double frameMs() const;
   uint64_t fragmentsShaded() const;

@@ -173,8 +173,7 @@ class Abuffer final : public Method {
     result.stats.pixelsWithTransparency = covered;
     result.stats.fragmentStorageBytes = total * sizeof(StoredFragment) + (pixels + 1) * sizeof(uint64_t);
     t.finish(result, AttachmentList::kOpaque);
-    result.fragmentStart = std::move(start);
-    result.fragments = std::move(fragments);
+    result.fragmentLists = {context.width, context.height, std::move(start), std::move(fragments)};
     return result;
   }
 

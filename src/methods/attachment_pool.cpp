@@ -60,9 +60,10 @@ void AttachmentPool::recycle(FrameResult&& frame) {
   give(std::move(frame.final8));
   give(std::move(frame.finalFloat));
   for (auto& [name, image] : frame.dump) give(std::move(image));
-  if (lentFragments_ > 0 && frame.fragments.capacity() > 0) {  // as give(): only what stands in for a loan
+  std::vector<TransparentFragment>& fragments = frame.fragmentLists.fragments;
+  if (lentFragments_ > 0 && fragments.capacity() > 0) {  // as give(): only what stands in for a loan
     --lentFragments_;
-    if (frame.fragments.capacity() > fragments_.capacity()) fragments_ = std::move(frame.fragments);
+    if (fragments.capacity() > fragments_.capacity()) fragments_ = std::move(fragments);
   }
   frame = FrameResult{};
 }

@@ -76,9 +76,10 @@ std::vector<DfaoitSample> dfaoitDataset(const std::vector<Scene>& scenes, Render
     const SceneGeometry geometry = buildSceneGeometry(scene);
     const FrameContext context{scene, geometry, scene.width, scene.height, exactProfile(), renderer};
     const FrameResult frame = makeMethod("abuffer")->render(context);
-    for (size_t p = 0; p + 1 < frame.fragmentStart.size(); ++p) {
-      std::vector<TransparentFragment> f(frame.fragments.begin() + std::ptrdiff_t(frame.fragmentStart[p]),
-                                         frame.fragments.begin() + std::ptrdiff_t(frame.fragmentStart[p + 1]));
+    const FragmentLists& lists = frame.fragmentLists;
+    for (int pixel = 0; pixel < lists.width * lists.height; ++pixel) {
+      const auto stored = lists.at(pixel % lists.width, pixel / lists.width);
+      std::vector<TransparentFragment> f(stored.begin(), stored.end());
       if (f.size() <= 2) continue;
       std::stable_sort(f.begin(), f.end(), [](const auto& a, const auto& b) { return a.windowDepth < b.windowDepth; });
       const glm::vec4 c1 = f[0].color, c2 = f[1].color;
