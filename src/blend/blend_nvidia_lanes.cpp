@@ -158,15 +158,9 @@ void fastFloat(const NvidiaBlendPlan& p, const glm::vec4& source, uint8_t* texel
     out = select4((bits & 0x7fffffff) < 0x00800000, (f4)sign, out);  // FTZ
     std::memcpy(texel, &out, 4 * kChannels);
   } else {
-#if defined(OITREF_HAVE_F16C)
-    const __m128i h = _mm_cvtps_ph((__m128)out, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-    std::memcpy(texel, &h, 2 * kChannels);
-#else
-    for (int c = 0; c < kChannels; ++c) {
-      const uint16_t h = encodeHalfInline(out[c], Rounding::NearestEven);
-      std::memcpy(texel + 2 * c, &h, 2);
-    }
-#endif
+    uint16_t h[4];
+    encodeHalf4Inline(out, Rounding::NearestEven, h);
+    std::memcpy(texel, h, 2 * kChannels);
   }
 }
 

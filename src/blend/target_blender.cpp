@@ -50,14 +50,7 @@ struct HalfTexels {
   template <int Channels>
   static void store(const Profile& profile, v4f value, uint8_t* texel) {
     uint16_t h[4];
-#if defined(OITREF_HAVE_F16C)
-    const __m128 v = (__m128)value;
-    const __m128i packed = profile.fp16 == Rounding::TowardZero ? _mm_cvtps_ph(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
-                                                                : _mm_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-    _mm_storel_epi64(reinterpret_cast<__m128i*>(h), packed);
-#else
-    for (int c = 0; c < Channels; ++c) h[c] = encodeHalfInline(value[c], profile.fp16);
-#endif
+    encodeHalf4Inline(value, profile.fp16, h);
     std::memcpy(texel, h, 2 * Channels);
   }
 };

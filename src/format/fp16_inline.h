@@ -20,6 +20,19 @@ inline uint16_t encodeHalfInline(float value, Rounding rounding) {
 #endif
 }
 
+// Four lanes of floats (the blend kernels' v4f) as four halves, encodeHalfInline's rule in each:
+// one VCVTPS2PH where built with F16C. The store of an RGBA16F texel by the blend kernels.
+typedef float HalfLanes __attribute__((vector_size(16)));
+inline void encodeHalf4Inline(HalfLanes value, Rounding rounding, uint16_t out[4]) {
+#if defined(OITREF_HAVE_F16C)
+  const __m128i packed = rounding == Rounding::TowardZero ? _mm_cvtps_ph((__m128)value, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
+                                                          : _mm_cvtps_ph((__m128)value, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+  _mm_storel_epi64(reinterpret_cast<__m128i*>(out), packed);
+#else
+  for (int c = 0; c < 4; ++c) out[c] = encodeHalfInline(value[c], rounding);
+#endif
+}
+
 inline float decodeHalfInline(uint16_t bits) {
 #if defined(OITREF_HAVE_F16C)
   return _cvtsh_ss(bits);
