@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "oitref/renderer.h"
+#include "oitref/core/renderer.h"
 
 using namespace oitref;
 

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "oitref/method.h"
+#include "oitref/oit/method.h"
 #include "tools/process_setup.h"
 #include "tools/suite.h"
 

@@ -64,7 +64,7 @@ if(_sanitize)
   endif()
   target_link_options(oitref_flags INTERFACE -fsanitize=${_sanitize})
   if(_sanitize MATCHES "thread")
-    target_compile_definitions(oitref_flags INTERFACE OITREF_STD_THREADS=1)  # see src/pipeline/renderer.cpp
+    target_compile_definitions(oitref_flags INTERFACE OITREF_STD_THREADS=1)  # see src/core/pipeline/renderer.cpp
   endif()
   message(STATUS "oitref: sanitizers ${_sanitize}")
 endif()

@@ -5,7 +5,7 @@
 #
 # oitref::core is formats, blending, depth and the pipeline (GLM and oneTBB only); oitref::scene
 # loads scene files; oitref::oit adds the methods, the ground truths, image files and the one-call
-# frame API (oitref/frame.h); oitref::apps is the command line as a library (oitref/cli.h: a
+# frame API (oitref/oit/frame.h); oitref::apps is the command line as a library (oitref/apps/cli.h: a
 # program that registers its own methods and runs `oitref study` on them). The static libraries' own dependencies are found again by the
 # package's config (Debian 12's packages, as for the build).
 include(GNUInstallDirs)

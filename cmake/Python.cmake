@@ -1,4 +1,4 @@
-# `import oitref`: the Python module (src/python/module.cpp), built into build/python and
+# `import oitref`: the Python module (src/apps/python/module.cpp), built into build/python and
 # installed by `cmake --install` into the prefix's Python site-packages. Needs Debian's
 # pybind11-dev, python3-dev and python3-numpy (scripts/setup.sh installs them); without them
 # nothing else changes.
@@ -19,7 +19,7 @@ if(OITREF_PYTHON AND NOT OITREF_FUZZ AND NOT OITREF_SANITIZE)
   endif()
 endif()
 if(OITREF_HAVE_PYTHON)
-  pybind11_add_module(oitref_python MODULE NO_EXTRAS src/python/module.cpp)  # no LTO: build time
+  pybind11_add_module(oitref_python MODULE NO_EXTRAS src/apps/python/module.cpp)  # no LTO: build time
   set_target_properties(oitref_python PROPERTIES OUTPUT_NAME oitref LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/python)
   target_link_libraries(oitref_python PRIVATE oitref_methods)
   # A shared module links the static libraries, so they are position-independent; without

@@ -3,7 +3,7 @@
 # builds it in ./build (Release). Safe to run again: it does only what is not done yet.
 #   OITREF_BUILD_DIR   build folder (default: build)
 #   OITREF_CMAKE_ARGS  extra CMake arguments (e.g. -DOITREF_F16C=OFF)
-#   OITREF_BUILD_TARGET  build only this target (default: everything)
+#   OITREF_BUILD_TARGET  build only these targets, space-separated (default: everything)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,4 +30,5 @@ fi
 build="${OITREF_BUILD_DIR:-build}"
 # shellcheck disable=SC2086
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release ${OITREF_CMAKE_ARGS:-} >/dev/null
-cmake --build "$build" -j "$(nproc)" ${OITREF_BUILD_TARGET:+--target "$OITREF_BUILD_TARGET"}
+# shellcheck disable=SC2086
+cmake --build "$build" -j "$(nproc)" ${OITREF_BUILD_TARGET:+--target $OITREF_BUILD_TARGET}

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "oitref/method.h"
+#include "oitref/oit/method.h"
 
 namespace oitref::test {
 

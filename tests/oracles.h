@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "oitref/minifloat.h"
+#include "oitref/core/minifloat.h"
 #include "support.h"
 
 namespace oitref::test {

@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "oitref/renderer.h"
+#include "oitref/core/renderer.h"
 
 namespace oitref::test {
 

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <exception>
 
-#include <oitref/blend.h>
-#include <oitref/format.h>
-#include <oitref/frame.h>
-#include <oitref/image_io.h>
+#include <oitref/core/blend.h>
+#include <oitref/core/format.h>
+#include <oitref/oit/frame.h>
+#include <oitref/oit/image_io.h>
 
 int main(int argc, char** argv) {
   if (argc < 2 || argc > 3) {

@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <memory>
 
-#include <oitref/method_kit.h>
+#include <oitref/oit/method_kit.h>
 
 namespace custom {
 namespace {

@@ -1,4 +1,4 @@
-// A method written outside oitref's tree with its method kit (oitref/method_kit.h).
+// A method written outside oitref's tree with its method kit (oitref/oit/method_kit.h).
 #pragma once
 
 namespace custom {

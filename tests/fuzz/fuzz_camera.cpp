@@ -12,10 +12,10 @@
 #include <cstring>
 #include <string>
 
-#include "oitref/method.h"
-#include "oitref/renderer.h"
-#include "oitref/scene.h"
-#include "oitref/scene_geometry.h"
+#include "oitref/oit/method.h"
+#include "oitref/core/renderer.h"
+#include "oitref/oit/scene.h"
+#include "oitref/oit/scene_geometry.h"
 
 namespace {
 

@@ -11,11 +11,11 @@
 #include <sstream>
 #include <string>
 
-#include "oitref/method.h"
-#include "oitref/profile.h"
-#include "oitref/renderer.h"
-#include "oitref/scene.h"
-#include "oitref/scene_geometry.h"
+#include "oitref/oit/method.h"
+#include "oitref/core/profile.h"
+#include "oitref/core/renderer.h"
+#include "oitref/oit/scene.h"
+#include "oitref/oit/scene_geometry.h"
 #include "tools/commands.h"
 #include "tools/number_parse.h"
 

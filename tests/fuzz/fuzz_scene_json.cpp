@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <string>
 
-#include "oitref/scene.h"
-#include "oitref/scene_geometry.h"
+#include "oitref/oit/scene.h"
+#include "oitref/oit/scene_geometry.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

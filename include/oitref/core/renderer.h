@@ -1,0 +1,109 @@
+// The emulated GPU: draws triangles and full-screen passes into a Framebuffer.
+//
+// Stages (one source file each, in src/core/pipeline/): primitive assembly and clipping (clip.cpp),
+// triangle setup (setup.cpp), binning into tiles (binning.cpp), rasterization per tile
+// (raster.cpp), and per-fragment operations — interpolation, depth test, shading, blending
+// (fragment_ops.cpp). Tiles are rasterized in parallel with oneTBB; each tile is owned by one
+// worker and walks its triangles in submission order, so every pixel sees its fragments in
+// primitive order and the result is bit-identical for any thread count. Draws run under the
+// default floating-point environment (round to nearest, no flush-to-zero) whatever the calling
+// thread has set.
+//
+// Not implemented (not needed by any OIT method here): stencil, scissor, multisampling, polygon
+// offset, lines and points, geometry/tessellation stages, sRGB targets, dithering.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+
+#include "oitref/core/depth.h"
+#include "oitref/core/geometry.h"
+#include "oitref/core/image.h"
+#include "oitref/core/pipeline_state.h"
+#include "oitref/core/shader.h"
+
+namespace oitref {
+
+// Attachments of a pass. All bound attachments must have the same size.
+struct Framebuffer {
+  std::array<Image*, kMaxColorTargets> color{};
+  DepthBuffer* depth = nullptr;
+
+  int width() const;
+  int height() const;
+  void validate() const;  // throws std::invalid_argument on no attachments or mismatched sizes
+};
+
+struct DrawStats {
+  uint64_t trianglesSubmitted = 0;
+  uint64_t trianglesRasterized = 0;  // after clipping (which may split), culling and zero-area removal
+  uint64_t trianglesNonFinite = 0;   // dropped: a vertex with NaN or inf (GL leaves this undefined)
+  uint64_t fragmentsRasterized = 0;  // covered pixel centres
+  uint64_t fragmentsShaded = 0;      // fragment shader invocations
+  uint64_t fragmentsDepthFailed = 0;
+  uint64_t fragmentsDiscarded = 0;
+  uint64_t fragmentsWritten = 0;     // reached blending
+  double setupMs = 0, rasterMs = 0;
+
+  DrawStats& operator+=(const DrawStats& o);
+};
+
+struct RendererOptions {
+  int threads = 0;      // 0: every hardware thread
+  // Pixels, a power of two from 8 to 256; 0 (the default): 64 as llvmpipe, or 32 on a viewport
+  // with fewer than eight tiles of 64 per thread (Renderer::tileSizeFor). Any size, the same bits.
+  int tileSize = 0;
+  // Hand fragments to the fragment operations one at a time instead of as row spans with batched
+  // blending: the same bits, slower; the oracle of the span path's tests.
+  bool perFragment = false;
+};
+
+// A draw whose clipped triangles cannot be placed within a sub-pixel step from their fp32 clip
+// coordinates (clip coordinates far beyond the guard band: a camera zoomed to a tiny fov_y, or
+// geometry that far off its axis): drawSequence refuses it rather than draw rounding errors.
+struct RasterPrecisionError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A renderer owns its worker arena and reuses its buffers between draws; one draw at a time.
+class Renderer {
+ public:
+  explicit Renderer(RendererOptions options = {});
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  int threads() const;
+  // The tile size a draw into a width × height viewport uses.
+  int tileSizeFor(int width, int height) const;
+  const RendererOptions& options() const { return options_; }
+
+  DrawStats draw(Framebuffer& fb, const PipelineState& state, const Geometry& geometry, const FragmentProgram& program);
+  // Several draws into one framebuffer with one state, in order: the same bits as calling draw()
+  // for each (every pixel still sees the draws' fragments in draw order, then primitive order),
+  // but each tile runs all of them while its attachments are in cache — as a tiling GPU or
+  // llvmpipe bins a frame's draws — instead of each draw sweeping the whole framebuffer.
+  // FragmentInput::drawId is each draw's drawId. Returns the draws' statistics summed.
+  struct DrawCall {
+    const Geometry* geometry = nullptr;
+    FragmentProgram program;
+    uint32_t drawId = 0;
+  };
+  DrawStats drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws);
+  // One fragment per pixel of the viewport, at window depth 0, with no attributes, through the
+  // same fragment operations (depth test if enabled, blending, write masks).
+  DrawStats drawFullscreen(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program);
+  // body(i) for i in [0, n) on this renderer's workers (and no others), each under the default
+  // floating-point environment: for work beside the pipeline, such as the ray cast.
+  void parallelFor(size_t n, const std::function<void(size_t)>& body);
+
+ private:
+  RendererOptions options_;
+  struct Arena;
+  std::unique_ptr<Arena> arena_;
+};
+
+}  // namespace oitref

@@ -1,0 +1,47 @@
+// glcheck's scene mode: a scene rendered by the GL version of a method (gl_methods.h) and by
+// oitref's emulated pipeline under a profile, compared on the presented RGBA8 image and on the
+// RGBA32F analysis copy, with every declared colour attachment compared bit for bit.
+#pragma once
+
+#include <iosfwd>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "glcheck/gl_context.h"
+#include "glcheck/scene_timing.h"
+#include "oitref/core/metrics.h"
+
+namespace oitref::glcheck {
+
+struct SceneCheckOptions {
+  std::vector<std::string> scenes;   // scene files
+  std::vector<std::string> methods;  // empty: every method with a GL version
+  std::map<std::string, std::string> methodOptions;  // given to every method checked (--set)
+  int width = 0, height = 0;         // 0: the scene's resolution
+  std::string profile = "llvmpipe";
+  // Why these defaults (docs/rules.md, "glcheck scene"): oitref does not model a driver's
+  // attribute and depth interpolation, so shader inputs differ by a few fp32 ulps (llvmpipe
+  // delivers a constant 0.3 as 0.300000042). That flips RGBA8 rounding where a colour sits on a
+  // tie (0.3·255 = 76.5) by one step, and changes the winner of depth ties where surfaces cross.
+  double tolerance = 1.5 / 255.0;    // per-pixel error allowed on the RGBA8 image: one step passes
+  double minShare = 0.99;            // pixels within tolerance a method must reach to pass
+  uint64_t memoryLimit = UINT64_MAX;  // for oitref's frames (checkMemory)
+  std::string heatmaps;              // folder for GL/oitref images and error heatmaps; empty: none
+  int threads = 0;                   // oitref's renderer threads; 0: every hardware thread
+  int timeRuns = 0;                  // > 0: also time each method side by side (scene_timing.h)
+};
+
+struct SceneCheckRow {
+  std::string scene, method;
+  ImageDifference presented, analysis;
+  std::vector<std::pair<std::string, double>> attachmentsBitEqual;  // share of equal texels
+  bool pass = false;
+  std::optional<MethodTiming> timing;
+};
+
+// Renders and compares; prints a table per scene to `out`. Throws on GL or scene errors.
+std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCheckOptions& options, std::ostream& out);
+
+}  // namespace oitref::glcheck

@@ -1,0 +1,119 @@
+#include "tools/suite.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "oitref/core/metrics.h"
+#include "oitref/oit/image_io.h"
+
+namespace oitref::tools {
+namespace fs = std::filesystem;
+
+std::vector<std::string> sceneFiles(const std::string& folder) {
+  std::vector<std::string> out;
+  for (const auto& entry : fs::directory_iterator(folder))
+    if (entry.path().extension() == ".json") out.push_back(entry.path().string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string sceneName(const std::string& path) { return fs::path(path).stem().string(); }
+
+SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const Profile& profile, int width, int height,
+                         const std::string& outDir, uint64_t memoryLimit) {
+  Scene scene = loadScene(scenePath, memoryLimit);
+  if (width > 0) scene.width = width, scene.height = height;
+  const SceneGeometry geometry = buildSceneGeometry(scene);
+  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, memoryLimit};
+  SuiteScene result;
+  result.name = sceneName(scenePath);
+  result.width = scene.width, result.height = scene.height;
+  std::vector<MethodInfo> methods = allMethods();
+  std::stable_partition(methods.begin(), methods.end(), [](const MethodInfo& m) { return m.name == "abuffer"; });
+  Image truth;
+  for (const MethodInfo& info : methods) {
+    std::unique_ptr<Method> method = makeMethod(info.name);
+    checkMemory(*method, scene.width, scene.height, geometry, memoryLimit);
+    const FrameResult frame = method->render(context);
+    if (info.name == "abuffer") {
+      truth = frame.finalFloat;
+      result.fragments = frame.stats.fragments.value_or(0);
+    }
+    const ImageDifference d = compareImages(frame.finalFloat, truth, 0.0);
+    SuiteRow row{info.name, frame.frameMs(), method->bytesPerPixel(), d.rmse, d.maxAbs, ""};
+    if (d.nonFinitePixels) row.note = std::to_string(d.nonFinitePixels) + " non-finite pixels (not in RMSE)";
+    for (const auto& [k, v] : frame.stats.lines())
+      if (k == "peeling passes" || k == "passes that peeled a layer" || k == "all layers peeled" || k == "depth complexity max")
+        row.note += (row.note.empty() ? "" : ", ") + k + ": " + v;
+    result.rows.push_back(row);
+    if (!outDir.empty()) {
+      const fs::path dir = fs::path(outDir) / result.name;
+      fs::create_directories(dir);
+      writeImage((dir / (info.name + ".png")).string(), frame.final8);
+      writeImage((dir / (info.name + ".exr")).string(), frame.finalFloat);
+    }
+  }
+  return result;
+}
+
+std::string formatSuiteTable(const SuiteScene& s) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof line, "%s  (%dx%d, %llu transparent fragments)\n", s.name.c_str(), s.width, s.height,
+                (unsigned long long)s.fragments);
+  out << line;
+  std::snprintf(line, sizeof line, "  %-8s %10s %8s %12s %12s  %s\n", "method", "ms", "B/pixel", "RMSE", "max error", "notes");
+  out << line;
+  for (const SuiteRow& r : s.rows) {
+    std::snprintf(line, sizeof line, "  %-8s %10.2f %8d %12.3e %12.3e  %s\n", r.method.c_str(), r.ms, r.bytesPerPixel, r.rmse,
+                  r.maxError, r.note.c_str());
+    out << line;
+  }
+  return out.str();
+}
+
+std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Renderer& renderer, const std::string& dir,
+                                             bool write) {
+  std::vector<ReferenceEntry> entries;
+  for (const std::string& path : sceneFiles(scenesDir)) {
+    Scene scene = loadScene(path);
+    scene.width = kReferenceWidth, scene.height = kReferenceHeight;
+    const SceneGeometry geometry = buildSceneGeometry(scene);
+    const FrameContext context{scene, geometry, scene.width, scene.height, exactProfile(), renderer};
+    for (const MethodInfo& info : allMethods()) {
+      const FrameResult frame = makeMethod(info.name)->render(context);
+      entries.push_back({sceneName(path), info.name, frameHash(frame)});
+      if (write) writeImage((fs::path(dir) / (sceneName(path) + "_" + info.name + ".png")).string(), frame.final8);
+    }
+  }
+  if (write) {
+    std::ostringstream manifest;
+    manifest << "# scene method sha256(final RGBA8 bits, then RGBA32F bits), " << kReferenceWidth << "x" << kReferenceHeight
+             << ", profile exact. Regenerate with `oitref reference --write` only on purpose.\n";
+    for (const ReferenceEntry& e : entries) manifest << e.scene << " " << e.method << " " << e.hash << "\n";
+    writeTextFile((fs::path(dir) / "manifest.txt").string(), manifest.str());
+  }
+  return entries;
+}
+
+std::vector<ReferenceEntry> readManifest(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot read the reference manifest");
+  std::vector<ReferenceEntry> entries;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    ReferenceEntry e;
+    if (!(fields >> e.scene >> e.method >> e.hash)) throw std::runtime_error(path + ": bad line '" + line + "'");
+    entries.push_back(e);
+  }
+  return entries;
+}
+
+}  // namespace oitref::tools

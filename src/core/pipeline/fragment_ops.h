@@ -1,0 +1,222 @@
+// Stage 5: per-fragment operations, in the order of GL 4.6 chapters 14.9, 15 and 17:
+// attribute interpolation → (early) depth test → fragment shader → (late) depth test →
+// depth write → blending and colour write for each output the shader wrote.
+//
+// Interpolation (GL 4.6 §14.6.1 eq. 14.9, 14.10) is exact for the original triangle, in double,
+// at the pixel centre: snapping and clipping decide coverage only. With M the 3×3 matrix whose
+// columns are the original vertices' clip (x, y, w) and (x_n, y_n) the pixel centre in NDC,
+//   k = M⁻¹ · (x_n, y_n, 1),  b = k / Σk        perspective-correct barycentrics
+//   P = Σ b_i V_i                                the surface point in clip space
+//   view depth = P.w,  window z = ½·P.z/P.w + ½  (linear in window space, eq. 14.10)
+//   a = Σ b_i a_i                                each attribute, then rounded once to fp32
+// (homogeneous rasterization, Olano & Greer 1997). A triangle whose plane contains the eye
+// (det M = 0) is seen edge-on and produces no fragments.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "blend/target_blender.h"
+#include "oitref/core/lanes.h"
+#include "oitref/core/renderer.h"
+#include "pipeline/depth_batch.h"
+#include "pipeline/depth_bounds.h"
+#include "pipeline/setup.h"
+
+namespace oitref::detail {
+
+struct FragmentCounters {
+  uint64_t rasterized = 0, shaded = 0, depthFailed = 0, discarded = 0, written = 0;
+};
+
+class FragmentStage {
+ public:
+  // `viewport` maps pixel centres to NDC: x_n = 2(x + ½ − vx)/vw − 1, likewise y.
+  FragmentStage(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program, const Geometry* geometry,
+                const PixelRect& viewport, uint32_t drawId = 0);
+  FragmentStage(const FragmentStage&) = delete;  // allSources_ points into the stage itself
+  FragmentStage& operator=(const FragmentStage&) = delete;
+
+  // The next draw of a sequence with the same framebuffer and state (Renderer::drawSequence):
+  // its program, geometry and id; the blenders and counters carry over.
+  void beginDraw(const FragmentProgram& program, const Geometry* geometry, uint32_t drawId);
+  // Takes the triangle's interpolation set-up (M⁻¹, clip z: setup.h) and its vertices' attributes
+  // before its fragments arrive.
+  void beginTriangle(const SetupTriangle& triangle);
+  // Asks for the memory that beginTriangle(triangle) will read (a hint; nothing changes).
+  void prefetchVertices(const SetupTriangle& triangle) const {
+    if (geometry_->attributeCount)
+      for (uint32_t v : triangle.vertexIndex) __builtin_prefetch(geometry_->vertexAttributes(v));
+  }
+  // A covered pixel centre of the current triangle.
+  void fragment(int x, int y);
+  // A full-screen pass pixel: window depth 0, no attributes.
+  void fullscreenPixel(int x, int y);
+  // The covered pixel centres [x0, x1) of row y of the current triangle (span), or of a full-screen
+  // pass (fullscreenSpan): the operations of fragment() and fullscreenPixel() for each, with the
+  // blending batched per target. The pixels of a span are distinct, so running every fragment's
+  // tests and shader before any blend changes nothing a fragment can see of its own pixel.
+  // A span's runs that the early depth test surely rejects are counted as failed without being
+  // interpolated (depth_bounds.h), as the per-fragment test would have failed each of them.
+  void span(int y, int x0, int x1);
+  void fullscreenSpan(int y, int x0, int x1);
+
+  const FragmentCounters& counters() const { return counters_; }
+
+ private:
+  void process(FragmentInput& in, double z, const double* perspectiveBary);
+  // Everything before blending; true when the fragment reaches blending with `out`'s colours.
+  // `earlyTestDone`: the caller ran the early depth test (and write) already.
+  bool shade(FragmentInput& in, double z, const double* perspectiveBary, FragmentOutput& out, bool earlyTestDone = false);
+  // The early depth test and write, where the program has early tests (the test alone, for
+  // earlyReject_); false when it fails.
+  bool earlyTest(int x, int y, double z);
+  // After the shader: discard, the late depth test and write (window z `z` unless the shader set
+  // one), and whether the fragment wrote a bound output, which makes it reach blending.
+  bool afterShader(int x, int y, double z, bool discarded, bool depthWritten, float shaderDepth, unsigned written);
+  bool afterShader(int x, int y, double z, const FragmentOutput& out) {
+    return afterShader(x, y, z, out.discarded(), out.depthWritten(), out.depth(), out.writtenMask());
+  }
+  // The batch path: the fragments [0, count) of row y in the batch arrays (batchX_, batchZ_, …),
+  // early-tested already, shaded by one program_->batch call, then afterShader and blending.
+  void shadeAndBlendBatch(int y, int count);
+  // The pixels [start, start + n) of row y at NDC y `yn`, n ≤ kBatch, through the batch path:
+  // interpolation in lanes, the early depth test, then shadeAndBlendBatch (or the per-fragment
+  // shader and blendBatch).
+  void spanBatch(int y, double yn, int start, int n);
+  // Of the fragments alive[0, count) of the span's pixels [start, start + n) with window z `z`,
+  // keeps those that pass the program's discardTest (in place, ascending) and returns how many;
+  // the others count as shaded and discarded.
+  int keepPassingDiscardTest(int y, int start, int n, const double* z, int* alive, int count);
+  // a = Σ b_i a_i, rounded once to fp32 (the header comment), for one fragment's attributes, or
+  // for `count` fragments' as rows (attribute k of fragment j at out[k·kBatch + j]), four lanes
+  // at a time.
+  static float interpolateAttribute(double b0, double b1, double b2, double a0, double a1, double a2) {
+    return float(b0 * a0 + b1 * a1 + b2 * a2);
+  }
+  void interpolateAttributes(const double* b, float* out) const;
+  // An attribute whose three vertices hold the same float a, finite and not zero, interpolates to
+  // a itself at every pixel where B = |b0| + |b1| + |b2| < 2^20. Proof, with u = 2^−53: the lane's
+  // r = (b0·a + b1·a) + b2·a in double is within γ3·B·|a| of (b0 + b1 + b2)·a (three roundings
+  // at most per term; a product that underflows adds 2^−1075, far below a float's spacing), and
+  // b_i = k_i·w, w = 1/((k0 + k1) + k2) put b0 + b1 + b2 within u + (γ2 + u)·B·(1 + 3u) of 1
+  // (Σ|k_i|·|w| ≤ B/(1 − u)). So |r − a| ≤ 7u·B·|a| < 2^−30·|a| (B ≥ 1 since Σ b_i ≈ 1); every
+  // float a is at least 2^−25·|a| from the nearest rounding boundary of fp32 (half the spacing
+  // below a power of two; subnormals are farther), so fp32(r) = a. Zero is left out because the
+  // sign of r's zero depends on the b_i's signs, and NaN and infinities because b_i·a can be NaN.
+  static bool flatAttributeValue(double a0, double a1, double a2) {
+    return a0 == a1 && a1 == a2 && a0 != 0.0 && std::isfinite(a0);
+  }
+  static constexpr double kFlatBarycentricBound = 1048576.0;  // 2^20
+  void interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count, float* out) const;
+  void fillInput(FragmentInput& in, int x, int y, double z, double w) const;
+  // Pixel x of the row at NDC y `yn`: the perspective-correct barycentrics b, the view depth w and
+  // the window z, the expressions of the header comment, one rounding each in double. On one
+  // pixel (D = double, x an int) or four of a span (D = lanes::d4, x their columns as doubles,
+  // exact): the same IEEE operations in every lane.
+  template <typename D, typename X>
+  void interpolate(X x, double yn, D& w, D& b0, D& b1, D& b2, D& z) const {
+    interpolateViewDepth(x, yn, b0, b1, b2, w);
+    interpolateWindowDepth(w, b0, b1, b2, z);
+  }
+  // interpolate() in two steps. The first: k = M⁻¹·(x_n, y_n, 1) (left in b0, b1, b2) and P.w.
+  template <typename D, typename X>
+  void interpolateViewDepth(X x, double yn, D& k0, D& k1, D& k2, D& w) const {
+    const double(&inverse)[3][3] = interpolation_->inverse;
+    const D xn = D(x) * ndcScaleX_ + ndcOffsetX_;
+    k0 = inverse[0][0] * xn + inverse[0][1] * yn + inverse[0][2];
+    k1 = inverse[1][0] * xn + inverse[1][1] * yn + inverse[1][2];
+    k2 = inverse[2][0] * xn + inverse[2][1] * yn + inverse[2][2];
+    w = 1.0 / (k0 + k1 + k2);  // P.w, the view depth
+  }
+  // The second: b = k·w in place, and the window z.
+  template <typename D>
+  void interpolateWindowDepth(D w, D& b0, D& b1, D& b2, D& z) const {
+    const double* clipZ = interpolation_->clipZ;
+    b0 = b0 * w, b1 = b1 * w, b2 = b2 * w;
+    z = 0.5 * ((b0 * clipZ[0] + b1 * clipZ[1] + b2 * clipZ[2]) / w) + 0.5;
+  }
+  // Blends `count` fragments of the batch target by target: outputs_'s fragment index[i] (i when
+  // index is null: all of them) at x = xs[i] on row y.
+  // `writtenByAll`: the targets every one of those fragments wrote, where the caller knows them.
+  void blendBatch(int y, int count, const int* xs, const int* index) {
+    blendBatch(y, count, xs, index, writtenByAll(count, index));
+  }
+  void blendBatch(int y, int count, const int* xs, const int* index, unsigned writtenByAll);
+  // The targets that outputs_'s fragments index[i], i < count (i when index is null), all wrote.
+  unsigned writtenByAll(int count, const int* index) const {
+    if (!index) return outputs_.writtenByAll(count);
+    unsigned all = ~0u;
+    for (int i = 0; i < count; ++i) all &= outputs_.writtenMask(index[i]);
+    return all;
+  }
+  // The derivatives of attributes derivativesOf_, derivativesOf_ + 1 for the fragment at (x, y)
+  // of the current triangle (FragmentInput::derivatives), at out[i · stride]: GL 4.6 §15.2.3's
+  // fine differences over its 2×2 quad, ∂/∂x between the quad's two pixels of row y, ∂/∂y
+  // between its two of column x. Each of those pixels, covered or not (a helper invocation), has
+  // the attributes this stage's interpolation gives there, rounded to fp32 as an invocation holds
+  // them; the differences are taken in double.
+  void quadDerivatives(int x, int y, double* out, int stride) const;
+  void prefetchDepthRow(int y, int x0, int x1) const;
+
+  static constexpr int kBatch = FragmentBatch::kCapacity;
+  // The pixels span() asks depthRunRejects_ about at a time: a whole span in the default 64-pixel
+  // tiles. Shorter runs reject more of a span whose depth crosses the stored one, but a rejected
+  // run splits the batch around it, and each batch has a cost of its own (dense's opaque frame:
+  // 81–106 ms with runs of 16, 63–66 with one run per span).
+  static constexpr int kRejectRun = 64;
+
+  Framebuffer& fb_;
+  const PipelineState& state_;
+  const FragmentProgram* program_;
+  const Geometry* geometry_;
+  const SetupTriangle* triangle_ = nullptr;
+  uint32_t drawId_ = 0;
+  const TriangleInterpolation* interpolation_ = nullptr;  // of the current triangle (setup.h)
+  double ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_;
+  int height_;  // the framebuffer's
+  bool earlyTests_;
+  bool earlyDepthTest_;  // early tests, and a depth test to run
+  // A pure program tested late (it may discard): the test also runs before the shader, without
+  // writing, and a fragment that fails it is not shaded (FragmentProgram::pure).
+  bool earlyReject_;
+  DepthBatchTest depthBatchTest_ = nullptr;  // span's early test, for the draw's depth state
+  // The program's own depth test (FragmentProgram::discardTest), applied before shading where the
+  // program is pure: the test without writing, and its buffer; null where there is none.
+  DepthBatchTest discardBatchTest_ = nullptr;
+  DepthBuffer* discardBuffer_ = nullptr;
+  // Rejecting runs whose window-z interval fails the test (depth_bounds.h): null where the draw
+  // tests no depth early or its compare function has no such bound.
+  DepthRunRejects depthRunRejects_ = nullptr;
+  WindowDepthBounds depthBounds_;  // of the current triangle and span
+  static constexpr int kMaxRejectBackoff = 15;
+  int rejectBackoff_ = 0, rejectSkip_ = 0;  // spans of the current triangle to take without the check
+  unsigned boundTargets_ = 0;
+  std::vector<TargetBlender> blenders_;  // per bound target, in target order
+  std::vector<double> vertexAttributes_;  // 3 × attributeCount, of the original vertices
+  // The current triangle's attributes (the first 64) that interpolate to their vertices' common
+  // value wherever the batch's barycentrics are bounded (flatAttributeValue): bit k for attribute k.
+  uint64_t flatAttributes_ = 0;
+  std::vector<float> attributes_;         // interpolated, for the shader
+  FragmentOutput output_;
+  FragmentCounters counters_;
+  FragmentBatchOutput outputs_;  // a batch's, for span() and fullscreenSpan()
+  // Per target, the sources of a batch that blends all of its fragments in order: fragment i's
+  // colour, outputs_.colors(t) + i (fixed for the stage's life: it is not copied or moved).
+  const glm::vec4* allSources_[kMaxColorTargets][kBatch];
+  int blendX_[kBatch], blendIndex_[kBatch];
+  // The batch path's fragments as arrays (FragmentBatch): columns, window depth in double (the
+  // depth test's) and in fp32 (gl_FragCoord.z), view depth, and the attributes' rows.
+  int batchX_[kBatch];
+  double batchZ_[kBatch];
+  float batchDepth_[kBatch], batchViewDepth_[kBatch];
+  std::vector<float> batchAttributes_;    // attributeCount rows of kBatch
+  // FragmentProgram::derivativesOf of the draw, and the derivatives of one fragment (the
+  // per-fragment path) or of a batch (four rows of kBatch).
+  int derivativesOf_ = -1;
+  double derivatives_[4];
+  double batchDerivatives_[4 * kBatch];
+};
+
+}  // namespace oitref::detail

@@ -1,0 +1,42 @@
+// The front-to-back order of one pixel's fragment list, as the A-buffer's resolve needs it: by
+// view depth, then window depth (compared with <, so −0 and +0 tie), then list position — the
+// order std::stable_sort gives with that comparison, which is unique for keys without NaN.
+//
+// A pixel's fragments arrive in submission order, which is often near depth order (each one a few
+// places from where it belongs): insertion, while the list proves nearly sorted (a budget of
+// 8n + 64 moves), then std::stable_sort from where insertion left it (insertion is stable, so the
+// order is the same). With AVX2, each insertion compares the new key with the last eight sorted
+// ones in vector lanes and moves them in registers, so that a fragment that belongs up to seven
+// places back costs no mispredicted branch (a scalar insertion mispredicts once per fragment
+// that moves); one that belongs further back takes the scalar step. Keys with NaN, and CPUs
+// without AVX2, take the scalar way throughout. Every way gives the one order.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "oitref/oit/method.h"
+
+namespace oitref::methods {
+
+class DepthOrder {
+ public:
+  // order[k] = the list position of the k-th of the n fragments front to back; order must hold n
+  // entries.
+  void sort(const TransparentFragment* list, uint32_t n, uint32_t* order);
+  // The same order the scalar way only (the portable build's; tests compare the two).
+  void sortScalar(const TransparentFragment* list, uint32_t n, uint32_t* order);
+
+ private:
+  struct Key {
+    float viewDepth, windowDepth;
+    uint32_t index;
+  };
+  // order from keys_[0, n), after a stable sort of them unless `sorted`.
+  void orderFromKeys(uint32_t n, uint32_t* order, bool sorted);
+  std::vector<Key> keys_;
+  std::vector<float> view_, window_;
+  std::vector<uint32_t> index_;
+};
+
+}  // namespace oitref::methods

@@ -1,0 +1,470 @@
+// Per-fragment operations: primitive order, early/late depth, discard, depth writes, MRT,
+// write masks, full-screen passes, texel fetch between passes, viewport.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cstring>
+
+#include "oitref/core/blend.h"
+#include "render_helpers.h"
+#include "support.h"
+
+using namespace oitref;
+
+namespace {
+
+constexpr int W = 24, H = 20;
+
+glm::vec4 colorOf(uint32_t id) {
+  return {float((id * 37) % 101) / 100.0f, float((id * 53) % 97) / 96.0f, float((id * 17) % 89) / 88.0f,
+          0.05f + float(id % 9) / 10.0f};
+}
+
+Geometry overlappingTriangles(int n, uint32_t seed) {
+  test::BitStream rng(seed);
+  std::vector<glm::dvec3> pts;
+  for (int i = 0; i < n; ++i) {
+    const double z = rng.uniform(0.1f, 0.9f);
+    for (int k = 0; k < 3; ++k) pts.emplace_back(rng.uniform(-10, W + 10), rng.uniform(-10, H + 10), z);
+  }
+  return test::windowTriangles(pts, W, H);
+}
+
+// A colour attachment's bytes followed by a depth buffer's stored words: what two renders that
+// must agree are compared by.
+std::vector<uint8_t> attachmentBytes(const Image& color, const DepthBuffer& depth) {
+  std::vector<uint8_t> bytes(color.bytes().begin(), color.bytes().end());
+  for (int y = 0; y < depth.height(); ++y)
+    for (int x = 0; x < depth.width(); ++x) {
+      const uint32_t d = depth.load(x, y);
+      bytes.insert(bytes.end(), reinterpret_cast<const uint8_t*>(&d), reinterpret_cast<const uint8_t*>(&d) + 4);
+    }
+  return bytes;
+}
+
+const BlendState kOver = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
+                                              BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);
+
+}  // namespace
+
+TEST_CASE("fragment ops: each pixel blends its fragments in primitive submission order", "[fragment]") {
+  // OVER does not commute: the result is right only if the order is. The expectation is built by
+  // calling the blend function on each pixel in submission order, using the recorded coverage.
+  const int n = 120;
+  const Geometry g = overlappingTriangles(n, 5);
+  Renderer r(RendererOptions{3, 8});
+  for (const char* fmt : {"rgba16f", "rgba8", "r11g11b10f"}) {
+    const Format f = parseFormat(fmt);
+    Image img(f, W, H);
+    img.clear({0.2f, 0.3f, 0.4f, 1}, exactProfile());
+    Framebuffer fb;
+    fb.color[0] = &img;
+    PipelineState st;
+    st.blend[0] = kOver;
+    r.draw(fb, st, g, {[](const FragmentInput& in, FragmentOutput& o) { o.write(0, colorOf(in.primitiveId)); }});
+    // Coverage of each triangle alone.
+    std::vector<std::vector<float>> cover;
+    for (int t = 0; t < n; ++t) {
+      Geometry one;
+      one.clipPositions.assign(g.clipPositions.begin() + 3 * t, g.clipPositions.begin() + 3 * t + 3);
+      cover.push_back(test::coverageCount(r, one, W, H));
+    }
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        uint8_t want[16];
+        encodeTexel(f, {0.2f, 0.3f, 0.4f, 1}, exactProfile(), want);
+        for (int t = 0; t < n; ++t)
+          if (cover[size_t(t)][size_t(y * W + x)] == 1.0f)
+            blendIntoTexel(f, kOver, glm::vec4(0), exactProfile(), colorOf(uint32_t(t)), want);
+        REQUIRE(std::memcmp(want, img.texel(x, y), f.bytesPerTexel()) == 0);
+      }
+  }
+}
+
+TEST_CASE("fragment ops: depth test order, early and late tests, discard and depth writes", "[fragment]") {
+  Renderer r(RendererOptions{2, 8});
+  // Two full-screen triangles pairs: near (z .25) drawn after far (z .75).
+  const auto quad = [](double z) {
+    return std::vector<glm::dvec3>{{-1, -1, z}, {W + 1, -1, z}, {W + 1, H + 1, z},
+                                   {-1, -1, z}, {W + 1, H + 1, z}, {-1, H + 1, z}};
+  };
+  std::vector<glm::dvec3> both = quad(0.75);
+  for (const auto& p : quad(0.25)) both.push_back(p);
+  const Geometry g = test::windowTriangles(both, W, H);
+
+  auto render = [&](FragmentProgram prog, DepthState ds, DepthFormat df = DepthFormat::D24) {
+    Image img(makeFormat(FormatId::R32F), W, H);
+    img.clear(glm::vec4(-1), exactProfile());
+    DepthBuffer depth(df, W, H);
+    Framebuffer fb;
+    fb.color[0] = &img;
+    fb.depth = &depth;
+    PipelineState st;
+    st.depth = ds;
+    const DrawStats s = r.draw(fb, st, g, prog);
+    return std::make_tuple(img.fetch(3, 3).r, depth.depth(3, 3), s);
+  };
+  const DepthState less{true, CompareFunc::Less, true, false};
+  const auto writeId = [](const FragmentInput& in, FragmentOutput& o) { o.write(0, glm::vec4(float(in.primitiveId))); };
+
+  // Plain: the near pair (primitives 2, 3) wins; the depth buffer holds 0.25.
+  auto [c1, d1, s1] = render({writeId}, less);
+  CHECK(c1 >= 2.0f);
+  CHECK(d1 == Approx(0.25).margin(1e-7));
+  CHECK(s1.fragmentsShaded == s1.fragmentsRasterized);  // nothing fails: near comes second
+
+  // GREATER with the far pair first: the near pair fails; early tests skip its shading.
+  auto [c2, d2, s2] = render({writeId}, {true, CompareFunc::Greater, true, false});
+  CHECK(c2 == -1.0f);  // cleared depth is 1.0: nothing is greater
+  CHECK(s2.fragmentsShaded == 0);
+  CHECK(s2.fragmentsDepthFailed == s2.fragmentsRasterized);
+
+  // Depth test disabled: no depth writes even with the write mask on (GL §17.3.4).
+  auto [c3, d3, s3] = render({writeId}, {false, CompareFunc::Less, true, false});
+  CHECK(d3 == 1.0);
+
+  // A shader that discards the near pair: late test, the far pair's depth stays.
+  const FragmentProgram discardNear{[](const FragmentInput& in, FragmentOutput& o) {
+                                      if (in.primitiveId >= 2) o.discard();
+                                      else o.write(0, glm::vec4(float(in.primitiveId)));
+                                    },
+                                    true, false, false};
+  auto [c4, d4, s4] = render(discardNear, less);
+  CHECK(c4 < 2.0f);
+  CHECK(d4 == Approx(0.75).margin(1e-7));
+  CHECK(s4.fragmentsDiscarded > 0);
+  // Forced early fragment tests: the depth write happens before the discard.
+  FragmentProgram early = discardNear;
+  early.earlyFragmentTests = true;
+  auto [c5, d5, s5] = render(early, less);
+  CHECK(c5 < 2.0f);
+  CHECK(d5 == Approx(0.25).margin(1e-7));
+
+  // gl_FragDepth: the far pair writes depth 0.1, so the near pair (0.25) fails LESS.
+  const FragmentProgram writesDepth{[](const FragmentInput& in, FragmentOutput& o) {
+                                      if (in.primitiveId < 2) o.setDepth(0.1f);
+                                      o.write(0, glm::vec4(float(in.primitiveId)));
+                                    },
+                                    false, true, false};
+  auto [c6, d6, s6] = render(writesDepth, less, DepthFormat::D32F);
+  CHECK(c6 < 2.0f);
+  CHECK(d6 == double(0.1f));
+}
+
+TEST_CASE("fragment ops: eight targets of different formats, each with its own blend state", "[fragment]") {
+  Renderer r(RendererOptions{2, 8});
+  const char* formats[8] = {"rgba8", "rgba16f", "r32f", "rgb10a2", "r11g11b10f", "rg16f", "rgba:e8m7", "r8"};
+  std::vector<Image> images;
+  for (const char* f : formats) images.emplace_back(parseFormat(f), W, H);
+  Framebuffer fb;
+  PipelineState st;
+  for (int i = 0; i < 8; ++i) {
+    images[size_t(i)].clear(glm::vec4(0.5f), exactProfile());
+    fb.color[size_t(i)] = &images[size_t(i)];
+    st.blend[size_t(i)] = i % 2 ? BlendState::same(BlendEquation::Add, BlendFactor::One, BlendFactor::One) : BlendState{};
+  }
+  const Geometry g = test::windowTriangles({{-1, -1, .5}, {60, -1, .5}, {-1, 60, .5}}, W, H);
+  r.draw(fb, st, g, {[](const FragmentInput&, FragmentOutput& o) {
+           for (int t = 0; t < 8; ++t)
+             if (t != 5) o.write(t, glm::vec4(0.125f * float(t + 1)));  // target 5 not written
+         }});
+  for (int t = 0; t < 8; ++t) {
+    const Format f = images[size_t(t)].format();
+    const glm::vec4 src(0.125f * float(t + 1));
+    uint8_t want[16];
+    encodeTexel(f, glm::vec4(0.5f), exactProfile(), want);
+    if (t != 5) blendIntoTexel(f, st.blend[size_t(t)], glm::vec4(0), exactProfile(), src, want);
+    INFO("target " << t << " " << f.name());
+    CHECK(std::memcmp(want, images[size_t(t)].texel(2, 2), f.bytesPerTexel()) == 0);
+  }
+}
+
+TEST_CASE("fragment ops: full-screen passes, texel fetch of an earlier pass, viewport", "[fragment]") {
+  Renderer r(RendererOptions{2, 8});
+  Image first(makeFormat(FormatId::RGBA16F), W, H), second(makeFormat(FormatId::RGBA32F), W, H);
+  first.clear(glm::vec4(0), exactProfile());
+  second.clear(glm::vec4(0), exactProfile());
+  Framebuffer fb1;
+  fb1.color[0] = &first;
+  PipelineState st;
+  DrawStats s = r.drawFullscreen(fb1, st, {[](const FragmentInput& in, FragmentOutput& o) {
+                                   o.write(0, {in.fragCoord.x, in.fragCoord.y, float(in.x * 100 + in.y), 1});
+                                 }});
+  CHECK(s.fragmentsShaded == uint64_t(W * H));
+  Framebuffer fb2;
+  fb2.color[0] = &second;
+  st.viewport = {4, 3, 10, 8};
+  r.drawFullscreen(fb2, st, {[&](const FragmentInput& in, FragmentOutput& o) {
+                     o.write(0, first.fetch(in.x, in.y) * 2.0f);
+                   }});
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const glm::vec4 v = second.fetch(x, y);
+      const bool inside = x >= 4 && x < 14 && y >= 3 && y < 11;
+      INFO("pixel " << x << "," << y);
+      if (inside) {
+        CHECK(v.x == 2 * (x + 0.5f));
+        CHECK(v.y == 2 * (y + 0.5f));
+        CHECK(v.z == 2 * float(x * 100 + y));
+      } else {
+        CHECK(v.x == 0.0f);
+      }
+    }
+}
+
+TEST_CASE("fragment ops: a batch program gives the per-fragment program's attachments and counts", "[fragment]") {
+  // The per-fragment shader is the oracle of FragmentProgram::batch (programOf): the same draws,
+  // once with the shader alone and once with the batch, must leave identical bytes in the colour
+  // and depth attachments and identical counts — with early and late tests, discard, gl_FragDepth
+  // and a full-screen pass that reads an earlier pass's attachment.
+  const Geometry g = overlappingTriangles(150, 11);
+  const auto shader = [](const FragmentInput& in, FragmentOutput& o) {
+    if (in.primitiveId % 5 == 1 && in.x % 3 == 0) return o.discard();
+    if (in.primitiveId % 4 == 2) o.setDepth(float(in.x) / float(W) * 0.5f + 0.1f);
+    o.write(0, colorOf(in.primitiveId) * (0.5f + in.depth));
+    if (in.primitiveId % 2) o.write(1, glm::vec4(in.fragCoord, in.viewDepth, in.frontFacing ? 1.0f : 0.0f));
+  };
+  for (bool early : {false, true}) {
+    std::vector<uint8_t> bytes[2];
+    DrawStats stats[2];
+    for (int batch = 0; batch < 2; ++batch) {
+      Renderer r(RendererOptions{2, 8});
+      Image a(makeFormat(FormatId::RGBA16F), W, H), b(makeFormat(FormatId::RGBA8), W, H), c(makeFormat(FormatId::RGBA32F), W, H);
+      a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+      b.clear({0.4f, 0.5f, 0.6f, 1}, exactProfile());
+      DepthBuffer depth(DepthFormat::D24, W, H);
+      Framebuffer fb;
+      fb.color[0] = &a, fb.color[1] = &b, fb.depth = &depth;
+      PipelineState st;
+      st.blend[0] = kOver;
+      st.depth = {true, CompareFunc::Less, true, false};
+      FragmentProgram program = batch ? programOf(shader, true, true, early) : FragmentProgram{shader, true, true, early};
+      stats[batch] = r.draw(fb, st, g, program);
+      // A full-screen pass that fetches the first pass's target.
+      Framebuffer full;
+      full.color[0] = &c;
+      const auto fetch = [&a](const FragmentInput& in, FragmentOutput& o) {
+        if ((in.x + in.y) % 7) o.write(0, a.fetch(in.x, in.y) * 2.0f);
+      };
+      const DrawStats fs = r.drawFullscreen(full, PipelineState{}, batch ? programOf(fetch) : FragmentProgram{fetch});
+      stats[batch].fragmentsWritten += fs.fragmentsWritten;
+      for (const Image* image : {&a, &b}) bytes[batch].insert(bytes[batch].end(), image->bytes().begin(), image->bytes().end());
+      const std::vector<uint8_t> rest = attachmentBytes(c, depth);
+      bytes[batch].insert(bytes[batch].end(), rest.begin(), rest.end());
+    }
+    INFO("early fragment tests " << early);
+    CHECK(bytes[0] == bytes[1]);
+    CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+    CHECK(stats[0].fragmentsDepthFailed == stats[1].fragmentsDepthFailed);
+    CHECK(stats[0].fragmentsDiscarded == stats[1].fragmentsDiscarded);
+    CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+    CHECK(stats[1].fragmentsDiscarded > 0);
+    CHECK(stats[1].fragmentsDepthFailed > 0);
+  }
+}
+
+TEST_CASE("fragment ops: a pure program that may discard gives the late test's attachments, shading fewer", "[fragment]") {
+  // FragmentProgram::pure lets fragments that fail the depth test go unshaded although the test
+  // of a discarding shader comes after it. The oracle is the same program without `pure` (the
+  // late test of GL §15.2.4 as written): identical colour and depth bytes for every compare
+  // function and write mask, with discards, on the span and the per-fragment paths; what
+  // changes is only that fewer fragments are shaded.
+  const Geometry g = overlappingTriangles(160, 23);
+  const auto shader = [](const FragmentInput& in, FragmentOutput& o) {
+    if ((in.primitiveId + uint32_t(in.x)) % 3 == 0) return o.discard();
+    o.write(0, colorOf(in.primitiveId) * (0.5f + in.depth));
+  };
+  int compared = 0, fewer = 0;
+  for (CompareFunc func : {CompareFunc::Less, CompareFunc::LEqual, CompareFunc::Greater, CompareFunc::NotEqual})
+    for (bool writeDepth : {true, false})
+      for (bool perFragment : {false, true}) {
+        std::vector<uint8_t> bytes[2];
+        DrawStats stats[2];
+        for (int pure = 0; pure < 2; ++pure) {
+          Renderer r(RendererOptions{2, 8, perFragment});
+          Image a(makeFormat(FormatId::RGBA8), W, H);
+          a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+          DepthBuffer depth(DepthFormat::D24, W, H);
+          depth.clear(func == CompareFunc::Greater ? 0.0 : 0.6);
+          Framebuffer fb;
+          fb.color[0] = &a, fb.depth = &depth;
+          PipelineState st;
+          st.blend[0] = kOver;
+          st.depth = {true, func, writeDepth, false};
+          stats[pure] = r.draw(fb, st, g, programOf(shader, true, false, false, pure == 1));
+          bytes[pure] = attachmentBytes(a, depth);
+        }
+        INFO(toString(func) << " depth writes " << writeDepth << " per fragment " << perFragment);
+        CHECK(bytes[0] == bytes[1]);
+        CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+        CHECK(stats[1].fragmentsShaded <= stats[0].fragmentsShaded);
+        CHECK(stats[0].fragmentsWritten > 0);
+        fewer += stats[1].fragmentsShaded < stats[0].fragmentsShaded;
+        ++compared;
+      }
+  CHECK(compared == 16);
+  CHECK(fewer >= 8);  // LESS and LEQUAL reject early, with or without depth writes, on both paths
+}
+
+TEST_CASE("fragment ops: spans rejected by their depth bound give the per-fragment path's bits", "[fragment]") {
+  // The span path skips runs whose window-z interval (pipeline/depth_bounds.h) fails the depth
+  // test at every pixel; the per-fragment path tests each fragment. Perspective triangles in a few
+  // sheets of nearly equal depth (their codes tie or differ by a step in d16 and d24), drawn with
+  // depth writes, so later sheets are partly hidden by earlier ones: for every depth format and
+  // compare function, early tests and a pure program that discards (tested early without writing),
+  // the colour and depth bytes and the counts must be the same on both paths.
+  constexpr int kW = 160, kH = 120;
+  test::BitStream rng(5);
+  Geometry g;
+  for (int i = 0; i < 120; ++i) {
+    const double sheet = 0.2 + 0.15 * double(rng.next() % 4), tilt = rng.uniform(-0.05f, 0.05f);
+    for (int k = 0; k < 3; ++k) {
+      const double x = rng.uniform(-20, kW + 20), y = rng.uniform(-20, kH + 20), w = rng.uniform(1.0f, 8.0f);
+      const double zn = sheet + tilt * x / kW + rng.uniform(-1e-7f, 1e-7f);
+      g.clipPositions.push_back(glm::vec4(float((2 * x / kW - 1) * w), float((2 * y / kH - 1) * w), float(zn * w), float(w)));
+    }
+  }
+  const auto shade = [](const FragmentInput& in, FragmentOutput& o) { o.write(0, colorOf(in.primitiveId)); };
+  const auto discarding = [](const FragmentInput& in, FragmentOutput& o) {
+    if ((in.primitiveId + uint32_t(in.x)) % 5 == 0) return o.discard();
+    o.write(0, colorOf(in.primitiveId));
+  };
+  int compared = 0;
+  uint64_t failed = 0;
+  // Tiles of 256 give spans of several runs (kRejectRun), tiles of 16 spans shorter than one.
+  for (int tile : {16, 256})
+    for (DepthFormat format : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F})
+      for (CompareFunc func : {CompareFunc::Less, CompareFunc::LEqual, CompareFunc::Greater, CompareFunc::GEqual,
+                               CompareFunc::Equal})
+        for (bool pure : {false, true}) {
+          std::vector<uint8_t> bytes[2];
+          DrawStats stats[2];
+          for (int perFragment = 0; perFragment < 2; ++perFragment) {
+            Renderer r(RendererOptions{2, tile, perFragment == 1});
+            Image a(makeFormat(FormatId::RGBA8), kW, kH);
+            a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+            DepthBuffer depth(format, kW, kH);
+            const bool farther = func == CompareFunc::Greater || func == CompareFunc::GEqual;
+            depth.clear(farther ? 0.0 : func == CompareFunc::Equal ? 0.5 : 1.0);
+            Framebuffer fb;
+            fb.color[0] = &a, fb.depth = &depth;
+            PipelineState st;
+            st.depth = {true, func, true, false};
+            stats[perFragment] = r.draw(fb, st, g, pure ? programOf(discarding, true, false, false, true) : programOf(shade));
+            bytes[perFragment] = attachmentBytes(a, depth);
+          }
+          INFO("tile " << tile << " " << toString(format) << " " << toString(func) << " pure " << pure);
+          CHECK(bytes[0] == bytes[1]);
+          CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+          CHECK(stats[0].fragmentsDepthFailed == stats[1].fragmentsDepthFailed);
+          CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+          failed += stats[0].fragmentsDepthFailed;
+          ++compared;
+        }
+  CHECK(compared == 60);
+  CHECK(failed > 200000);  // most of the later sheets' fragments are hidden
+}
+
+TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after another", "[fragment]") {
+  // Renderer::drawSequence runs every draw tile by tile; OVER does not commute, so the bytes are
+  // those of separate draw() calls only if each pixel still sees the draws in order. drawId
+  // reaches the shader (here it picks the colour), on the span and the per-fragment paths.
+  std::vector<Geometry> geometries;
+  for (uint32_t d = 0; d < 5; ++d) geometries.push_back(overlappingTriangles(40, 100 + d));
+  std::atomic<int> wrongDrawId{0};  // counted in the shaders, which run on the renderer's threads
+  auto program = [&wrongDrawId](uint32_t drawId) {
+    return programOf([drawId, &wrongDrawId](const FragmentInput& in, FragmentOutput& o) {
+      if (in.drawId != drawId) wrongDrawId.fetch_add(1, std::memory_order_relaxed);
+      o.write(0, colorOf(in.primitiveId * 7 + drawId * 3));
+    });
+  };
+  for (bool perFragment : {false, true}) {
+    std::vector<uint8_t> bytes[2];
+    DrawStats stats[2];
+    for (int sequence = 0; sequence < 2; ++sequence) {
+      Renderer r(RendererOptions{3, 8, perFragment});
+      Image a(makeFormat(FormatId::RGBA16F), W, H);
+      a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+      DepthBuffer depth(DepthFormat::D24, W, H);
+      Framebuffer fb;
+      fb.color[0] = &a, fb.depth = &depth;
+      PipelineState st;
+      st.blend[0] = kOver;
+      st.depth = {true, CompareFunc::LEqual, false, false};
+      if (sequence) {
+        std::vector<Renderer::DrawCall> draws;
+        for (uint32_t d = 0; d < 5; ++d) draws.push_back({&geometries[d], program(10 + d), 10 + d});
+        stats[1] = r.drawSequence(fb, st, draws);
+      } else {
+        for (uint32_t d = 0; d < 5; ++d)
+          stats[0] += r.drawSequence(fb, st, {Renderer::DrawCall{&geometries[d], program(10 + d), 10 + d}});
+      }
+      bytes[sequence] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
+    }
+    INFO("per fragment " << perFragment);
+    CHECK(bytes[0] == bytes[1]);
+    CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+    CHECK(stats[0].trianglesRasterized == stats[1].trianglesRasterized);
+    CHECK(stats[1].fragmentsWritten > 0);
+  }
+  CHECK(wrongDrawId.load() == 0);
+}
+
+TEST_CASE("fragment ops: a shader's declared depth test discards unshaded, with the shader's bits and counts", "[fragment]") {
+  // FragmentProgram::discardTest declares a test the shader applies itself (depth peeling's
+  // "behind the previous layer"). The oracle is the same program without the declaration: the
+  // same colour and depth bytes and the same counters (discarded fragments count as shaded) for
+  // each depth format and compare function, on both paths; on the span path the shader runs on
+  // fewer fragments.
+  const Geometry g = overlappingTriangles(160, 29);
+  int compared = 0, fewer = 0;
+  for (DepthFormat format : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F})
+    for (CompareFunc func : {CompareFunc::Greater, CompareFunc::GEqual, CompareFunc::Less, CompareFunc::LEqual})
+      for (bool perFragment : {false, true}) {
+        // The shader's own test reads a buffer of scattered depths over the triangles' range.
+        DepthBuffer previous(format, W, H);
+        test::BitStream rng(uint32_t(format) * 8 + uint32_t(func));
+        for (int y = 0; y < H; ++y)
+          for (int x = 0; x < W; ++x) previous.store(x, y, encodeDepth(rng.uniform(0.0f, 1.0f), format));
+        const ShaderDepthTest test{&previous, func};
+        std::atomic<uint64_t> invocations[2] = {0, 0};
+        std::vector<uint8_t> bytes[2];
+        DrawStats stats[2];
+        for (int declared = 0; declared < 2; ++declared) {
+          std::atomic<uint64_t>& calls = invocations[declared];
+          const auto shader = [&](const FragmentInput& in, FragmentOutput& o) {
+            calls.fetch_add(1, std::memory_order_relaxed);
+            if (!depthTestPasses(test.func, encodeDepth(in.depth, format), previous.load(in.x, in.y), format))
+              return o.discard();
+            if ((in.primitiveId + uint32_t(in.x)) % 5 == 0) return o.discard();
+            o.write(0, colorOf(in.primitiveId));
+          };
+          Renderer r(RendererOptions{2, 8, perFragment});
+          Image a(makeFormat(FormatId::RGBA8), W, H);
+          a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+          DepthBuffer depth(DepthFormat::D24, W, H);  // the pass's own depth test: LESS, written
+          depth.clear(0.8);
+          Framebuffer fb;
+          fb.color[0] = &a, fb.depth = &depth;
+          PipelineState st;
+          st.blend[0] = kOver;
+          st.depth = {true, CompareFunc::Less, true, false};
+          FragmentProgram program = programOf(shader, true, false, false, true);
+          if (declared) program.discardTest = test;
+          stats[declared] = r.draw(fb, st, g, program);
+          bytes[declared] = attachmentBytes(a, depth);
+        }
+        INFO(toString(format) << " " << toString(func) << " per fragment " << perFragment);
+        CHECK(bytes[0] == bytes[1]);
+        CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+        CHECK(stats[0].fragmentsDiscarded == stats[1].fragmentsDiscarded);
+        CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+        CHECK(stats[0].fragmentsWritten > 0);
+        CHECK(stats[1].fragmentsDiscarded > stats[1].fragmentsWritten / 4);
+        if (perFragment) CHECK(invocations[1] == invocations[0]);  // the oracle path ignores the declaration
+        else fewer += invocations[1] < invocations[0];
+        ++compared;
+      }
+  CHECK(compared == 24);
+  CHECK(fewer == 12);
+}
