@@ -1,4 +1,4 @@
-// The list of methods, their options, and the pieces of the Method interface they share.
+// oitref/oit/method.h: the registry of methods (built-in and registered), their options checked and converted (MethodOptions), and the pieces of the Method interface they share.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
