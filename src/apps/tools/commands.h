@@ -49,6 +49,20 @@ inline CLI::Option* addProfileOption(CLI::App* cmd, std::string& text, const cha
       ->capture_default_str();
 }
 
+// --threads, as every command that renders takes it: the renderer's workers (0: every hardware
+// thread). `what` names whose threads they are where a command has more than one kind.
+inline CLI::Option* addThreadsOption(CLI::App* cmd, int& threads, const char* what = "Worker threads (0: all)") {
+  return cmd->add_option("--threads", threads, what)->check(CLI::Range(0, 1024));
+}
+
+// --size WxH, as render, suite and study take it: the scenes' resolution overridden (parseSize).
+inline CLI::Option* addSizeOption(CLI::App* cmd, std::string& size, const char* what = "Override the scenes' resolution, WxH") {
+  return cmd->add_option("--size", size, what);
+}
+
+// --quiet, as the long-running commands take it.
+inline CLI::Option* addQuietFlag(CLI::App* cmd, bool& quiet) { return cmd->add_flag("--quiet", quiet, "No progress on stderr"); }
+
 // --set key=value (repeatable), as render and glcheck scene take method options: the map that
 // makeMethod and MethodOptions read, which name the method when a key or value is not its own.
 inline void addMethodSetOption(CLI::App* cmd, std::vector<std::string>& sets) {

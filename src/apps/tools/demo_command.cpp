@@ -54,7 +54,7 @@ void addDemoCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--height", o->demo.height, "Height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   cmd->add_option("--triangles", o->demo.triangles, "Translucent triangles")->check(CLI::Range(0, 10000000))->capture_default_str();
   cmd->add_option("--seed", o->demo.seed, "Random seed")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024))->capture_default_str();
+  addThreadsOption(cmd, o->threads)->capture_default_str();
   addProfileOption(cmd, o->profile);
   cmd->callback([o, &exitCode] {
     exitCode = runReportingErrors("demo", [&] {

@@ -101,8 +101,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("scene", o->scene, "Scene JSON file")->required();
   cmd->add_option("--method", o->method, "Method (see `oitref methods`)")->capture_default_str();
   addMethodSetOption(cmd, o->sets);
-  cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
-  cmd->add_option("--size", o->size, "Override the scene's resolution, WxH");
+  addThreadsOption(cmd, o->threads);
+  addSizeOption(cmd, o->size, "Override the scene's resolution, WxH");
   addProfileOption(cmd, o->profile);
   nonEmptyPath(cmd->add_option("--out", o->out, "Output image: .exr (float RGBA) or .png (the final RGBA8 bits)"));
   nonEmptyPath(cmd->add_option("--dump", o->dump, "Write every colour attachment into this folder"));

@@ -64,8 +64,8 @@ void addStressCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--methods", o->methods, "Only these methods (comma- or space-separated)")->delimiter(',');
   cmd->add_option("--max-layers", o->maxLayers, "Largest layer count of the sweep (default 4096)")->capture_default_str();
   cmd->add_option("--size", o->size, "Pixels per side of each cell's image")->check(CLI::Range(1, 64))->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
-  cmd->add_flag("--quiet", o->quiet, "No progress on stderr");
+  addThreadsOption(cmd, o->threads);
+  addQuietFlag(cmd, o->quiet);
   cmd->callback([o, &exitCode] { exitCode = runReportingErrors("stress", [&] { return runStressCommand(*o); }); });
 }
 

@@ -70,12 +70,12 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("scenes", o->scenes, "Scene files (default: every scenes/*.json)");
   nonEmptyPath(cmd->add_option("--out", o->out, "Report folder"))->capture_default_str();
   cmd->add_option("--methods", o->methods, "Only these methods, comma- or space-separated (the A-buffer and the ray cast always run)")->delimiter(',');
-  cmd->add_option("--size", o->size, "Override the scenes' resolution, WxH");
+  addSizeOption(cmd, o->size);
   cmd->add_option("--runs", o->runs, "Timed runs per configuration, after one warm-up (which counts as the first run where it took 100 ms or more)")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
+  addThreadsOption(cmd, o->threads);
   addProfileOption(cmd, o->profile);
   cmd->add_option("--heatmap-scale", o->heatmapScale, "Error drawn white in the heatmaps")->capture_default_str();
-  cmd->add_flag("--quiet", o->quiet, "No progress on stderr");
+  addQuietFlag(cmd, o->quiet);
   addMemoryLimitOption(cmd, o->memoryLimit);
   cmd->callback([o, &exitCode] { exitCode = runReportingErrors("study", [&] { return runStudyCommand(*o); }); });
 }

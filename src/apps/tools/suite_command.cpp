@@ -27,8 +27,8 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   CLI::App* suite = app.add_subcommand("suite", "Render scenes with every method; print time, memory and error vs the A-buffer");
   suite->add_option("scenes", o->scenes, "Scene files (default: every scenes/*.json)");
   nonEmptyPath(suite->add_option("--out", o->out, "Write every image into this folder"));
-  suite->add_option("--size", o->size, "Override the scenes' resolution, WxH");
-  suite->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
+  addSizeOption(suite, o->size);
+  addThreadsOption(suite, o->threads);
   addProfileOption(suite, o->profile);
   addMemoryLimitOption(suite, o->memoryLimit);
   suite->callback([o, &exitCode] {
@@ -53,7 +53,7 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   CLI::App* ref = app.add_subcommand("reference", "Check (or, with --write, regenerate) the golden reference images");
   ref->add_option("--dir", o->dir, "Reference folder")->capture_default_str();
   ref->add_option("--scenes", o->scenesDir, "Scene folder")->capture_default_str();
-  ref->add_option("--threads", o->threads, "Worker threads (0: all)")->check(CLI::Range(0, 1024));
+  addThreadsOption(ref, o->threads);
   ref->add_flag("--write", o->write, "Regenerate the images and the manifest (only on purpose)");
   ref->callback([o, &exitCode] {
     exitCode = runReportingErrors("reference", [&] {

@@ -48,8 +48,8 @@ void addTrainCommand(CLI::App& app, int& exitCode) {
   CLI::App* cmd = app.add_subcommand("train-dfaoit", "Train the DFAOIT network and write its weights (deterministic)");
   nonEmptyPath(cmd->add_option("--out", o->out, "Weights header to write"))->capture_default_str();
   cmd->add_option("--epochs", o->epochs, "Training epochs")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Worker threads for the A-buffer renders (0: all)")->check(CLI::Range(0, 1024));
-  cmd->add_flag("--quiet", o->quiet, "No progress on stderr");
+  addThreadsOption(cmd, o->threads, "Worker threads for the A-buffer renders (0: all)");
+  addQuietFlag(cmd, o->quiet);
   cmd->callback([o, &exitCode] { exitCode = runReportingErrors("train-dfaoit", [&] { return runTrain(*o); }); });
 }
 
