@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "oitref/oit/frame.h"
 #include "oitref/oit/method.h"
 
 namespace oitref::test {
@@ -107,8 +108,7 @@ struct Reference {
 inline FrameResult render(const Scene& scene, const std::string& method, const std::map<std::string, std::string>& options = {},
                    int threads = 2) {
   Renderer r(RendererOptions{threads, 16});
-  const SceneGeometry g = buildSceneGeometry(scene);
-  return makeMethod(method, options)->render(FrameContext{scene, g, scene.width, scene.height, exactProfile(), r});
+  return SceneFrames(scene, r).render(*makeMethod(method, options));
 }
 
 inline const Reference& reference() {

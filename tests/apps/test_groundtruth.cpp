@@ -7,6 +7,7 @@
 
 #include <set>
 
+#include "oitref/oit/frame.h"
 #include "oitref/oit/method.h"
 #include "tools/suite.h"
 
@@ -15,11 +16,10 @@ using namespace oitref;
 TEST_CASE("ground truth: the A-buffer and the ray caster agree on every built-in scene", "[groundtruth]") {
   Renderer renderer(RendererOptions{2, 64});
   for (const std::string& path : tools::sceneFiles(OITREF_SOURCE_DIR "/scenes")) {
-    const Scene scene = loadScene(path);
-    const SceneGeometry geometry = buildSceneGeometry(scene);
-    const FrameContext context{scene, geometry, scene.width, scene.height, exactProfile(), renderer};
-    const FrameResult abuffer = makeMethod("abuffer")->render(context);
-    const FrameResult raycast = makeMethod("raycast")->render(context);
+    const SceneFrames frames(loadScene(path), renderer);
+    const Scene& scene = frames.scene();
+    const FrameResult abuffer = frames.render(*makeMethod("abuffer"));
+    const FrameResult raycast = frames.render(*makeMethod("raycast"));
     const int w = scene.width, h = scene.height;
     // The opaque objects' cover, one object at a time over a background no surface can have.
     std::vector<std::pair<uint32_t, Image>> opaqueCover;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "oitref/oit/frame.h"
 #include "oitref/oit/method.h"
 #include "oitref/core/metrics.h"
 #include "oitref/oit/scene_geometry.h"
@@ -138,9 +139,8 @@ TEST_CASE("bad input: degenerate and zero-area triangles are drawn as GL draws t
     const std::string path = write(mesh + ".json", R"({"resolution": [32, 32], "objects": [{"type": "mesh", "file_path": ")" +
                                                        mesh + R"(.obj", "color_override": [0.8, 0.4, 0.2, 0.5]}]})");
     const Scene scene = loadScene(path);
-    const SceneGeometry g = buildSceneGeometry(scene);
     Renderer r(RendererOptions{2, 16});
-    return makeMethod("over")->render(FrameContext{scene, g, scene.width, scene.height, exactProfile(), r});
+    return SceneFrames(scene, r).render(*makeMethod("over"));
   };
   const FrameResult clean = render("clean"), degenerate = render("degenerate");
   CHECK(clean.final8.sameBits(degenerate.final8));

@@ -9,6 +9,7 @@
 
 #include "methods/methods.h"
 #include "methods/moment_math.h"
+#include "oitref/oit/frame.h"
 #include "oitref/oit/method.h"
 
 using namespace oitref;
@@ -45,8 +46,7 @@ Scene stack(int layers, glm::vec4 color, float nearest, float spacing) {
 
 FrameResult render(const Scene& scene, const std::string& method, const std::map<std::string, std::string>& options) {
   Renderer r(RendererOptions{1, 8});
-  const SceneGeometry g = buildSceneGeometry(scene);
-  return makeMethod(method, options)->render(FrameContext{scene, g, scene.width, scene.height, exactProfile(), r});
+  return SceneFrames(scene, r).render(*makeMethod(method, options));
 }
 
 const Image& dumped(const FrameResult& f, const std::string& name) {

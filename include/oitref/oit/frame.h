@@ -27,6 +27,32 @@ struct FrameRequest {
   uint64_t memoryLimit = defaultMemoryLimit();  // frames that need more are refused
 };
 
+// A scene ready for frames of any method, drawn by a renderer the caller keeps (its workers shared
+// by every method and scene a tool renders): the scene at its frame size, its geometry built once,
+// the profile and the memory limit. Study, suite, stress, training and glcheck render through it;
+// FrameRenderer is one method's repeated frames over it. The renderer must outlive it.
+class SceneFrames {
+ public:
+  SceneFrames(Scene scene, Renderer& renderer, Profile profile = exactProfile(), uint64_t memoryLimit = UINT64_MAX);
+  // Throws std::runtime_error when the method's frame needs more than the memory limit
+  // (checkMemory), before anything is allocated; with no limit there is nothing to check.
+  void checkMemoryOf(const Method& method) const;
+  // The method's frame, its memory checked first; `pool`: the attachments kept between frames.
+  FrameResult render(Method& method, AttachmentPool* pool = nullptr) const;
+  // What the method's render() gets.
+  FrameContext context(AttachmentPool* pool = nullptr) const;
+  const Scene& scene() const { return scene_; }
+  const SceneGeometry& geometry() const { return geometry_; }
+  const Profile& profile() const { return profile_; }
+
+ private:
+  Scene scene_;
+  SceneGeometry geometry_;
+  Renderer& renderer_;
+  Profile profile_;
+  uint64_t memoryLimit_;
+};
+
 // Renders frames of one scene with one method, keeping what a frame does not change between
 // frames — the geometry, the renderer's workers and the attachments — as an application keeps
 // its buffers. The constructor throws std::invalid_argument for an unknown method, option or
@@ -44,16 +70,15 @@ class FrameRenderer {
   // The last frame, moved out: its storage is no longer reused by the next.
   FrameResult release();
   const Method& method() const { return *method_; }
-  const Scene& scene() const { return scene_; }
+  const Scene& scene() const { return frames_.scene(); }
   Renderer& renderer() { return renderer_; }
   const FrameRequest& request() const { return request_; }
 
  private:
-  Scene scene_;
   FrameRequest request_;
   std::unique_ptr<Method> method_;
-  SceneGeometry geometry_;
   Renderer renderer_;
+  SceneFrames frames_;
   std::unique_ptr<AttachmentPool> pool_;
   FrameResult result_;
 };

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "glcheck/gl_methods.h"
+#include "oitref/oit/frame.h"
 #include "oitref/oit/image_io.h"
 #include "tools/suite.h"
 
@@ -120,16 +121,15 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
   for (const std::string& path : o.scenes) {
     Scene scene = loadScene(path, o.memoryLimit);
     if (o.width > 0) scene.width = o.width, scene.height = o.height;
-    const SceneGeometry geometry = buildSceneGeometry(scene);
-    const FrameContext frame{scene, geometry, scene.width, scene.height, profile, renderer, o.memoryLimit};
+    const SceneFrames frames(std::move(scene), renderer, profile, o.memoryLimit);
+    const FrameContext frame = frames.context();
     const std::string sceneName = tools::sceneName(path);
-    printHeader(out, sceneName, scene.width, scene.height, profile, o);
+    printHeader(out, sceneName, frames.scene().width, frames.scene().height, profile, o);
     const size_t firstRow = rows.size();
     for (const std::string& name : methodNames) {
       const std::unique_ptr<Method> method = makeMethod(name, o.methodOptions);
-      checkMemory(*method, scene.width, scene.height, geometry, o.memoryLimit);
       const MethodOptions options(method->info(), o.methodOptions);
-      const FrameResult ours = method->render(frame);
+      const FrameResult ours = frames.render(*method);
       GlFrame gl(context, frame, method->attachments());
       const std::string presentedName = findGlMethod(name)(gl, options);
       const Image glPresented = gl.read(presentedName), glAnalysis = gl.read("analysis");

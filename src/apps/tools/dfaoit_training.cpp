@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "methods/det_math.h"
+#include "oitref/oit/frame.h"
 #include "util/seeded_random.h"
 
 namespace oitref::tools {
@@ -73,9 +74,7 @@ std::vector<Scene> dfaoitTrainingScenes() {
 std::vector<DfaoitSample> dfaoitDataset(const std::vector<Scene>& scenes, Renderer& renderer) {
   std::vector<DfaoitSample> samples;
   for (const Scene& scene : scenes) {
-    const SceneGeometry geometry = buildSceneGeometry(scene);
-    const FrameContext context{scene, geometry, scene.width, scene.height, exactProfile(), renderer};
-    const FrameResult frame = makeMethod("abuffer")->render(context);
+    const FrameResult frame = SceneFrames(scene, renderer).render(*makeMethod("abuffer"));
     const FragmentLists& lists = frame.fragmentLists;
     for (int pixel = 0; pixel < lists.width * lists.height; ++pixel) {
       const auto stored = lists.at(pixel % lists.width, pixel / lists.width);

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "oitref/core/metrics.h"
+#include "oitref/oit/frame.h"
 #include "util/seeded_random.h"
 
 namespace oitref::tools {
@@ -128,11 +129,10 @@ glm::dvec3 stressExact(const Scene& scene) {
 
 StressCell stressCell(const StressConfig& config, const StressCondition& condition, int layers, float alpha, int size,
                       Renderer& renderer) {
-  const Scene scene = stressScene(condition, layers, alpha, size, size);
-  const SceneGeometry geometry = buildSceneGeometry(scene);
-  const FrameContext context{scene, geometry, size, size, exactProfile(), renderer};
+  const SceneFrames frames(stressScene(condition, layers, alpha, size, size), renderer);
+  const Scene& scene = frames.scene();
   std::unique_ptr<Method> method = makeMethod(config.method, config.options);
-  const FrameResult frame = method->render(context);
+  const FrameResult frame = frames.render(*method);
   const glm::dvec3 exact = stressExact(scene);
   double transmittance = 1;
   for (int i = 0; i < layers; ++i) transmittance *= 1.0 - double(alpha);

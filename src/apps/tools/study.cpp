@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "oitref/core/metrics.h"
+#include "oitref/oit/frame.h"
 #include "oitref/oit/image_io.h"
 #include "tools/suite.h"
 
@@ -60,10 +61,9 @@ std::string noteOf(const FrameStats& stats) {
 // pays beyond the others is taking fresh attachments (under a millisecond at the study's sizes),
 // so the study's slowest variants render five frames, not six.
 constexpr double kSlowFrameMs = 100.0;
-FrameResult timedRender(Method& method, const FrameContext& unpooled, int warmups, int runs, std::vector<double>& runMs) {
+FrameResult timedRender(Method& method, const SceneFrames& frames, int warmups, int runs, std::vector<double>& runMs) {
   AttachmentPool pool;
-  FrameContext context = unpooled;
-  context.pool = &pool;
+  const FrameContext context = frames.context(&pool);
   FrameResult frame;
   auto render = [&] {  // the next frame into `frame`, its time in ms
     pool.recycle(std::move(frame));
@@ -136,11 +136,10 @@ StudyResult runStudy(const StudyOptions& o, Renderer& renderer, const StudyProgr
   for (const std::string& path : o.scenes) {
     Scene scene = loadScene(path, o.memoryLimit);
     if (o.width > 0) scene.width = o.width, scene.height = o.height;
-    const SceneGeometry geometry = buildSceneGeometry(scene);
-    const FrameContext context{scene, geometry, scene.width, scene.height, o.profile, renderer, o.memoryLimit};
+    const SceneFrames frames(std::move(scene), renderer, o.profile, o.memoryLimit);
     StudyScene s;
     s.name = sceneName(path);
-    s.width = scene.width, s.height = scene.height;
+    s.width = frames.scene().width, s.height = frames.scene().height;
     const fs::path dir = fs::path(o.outDir) / s.name;
     fs::create_directories(dir);
     Image truth;
@@ -150,12 +149,12 @@ StudyResult runStudy(const StudyOptions& o, Renderer& renderer, const StudyProgr
     for (const StudyVariant& v : variants) {
       progress(s.name + ": " + v.method + " " + v.label(), ++item, items);
       std::unique_ptr<Method> method = makeMethod(v.method, v.options);
-      checkMemory(*method, scene.width, scene.height, geometry, o.memoryLimit);
+      frames.checkMemoryOf(*method);
       StudyRow row;
       row.variant = v;
       // The study's very first frames also warm the process (thread pool, allocator, caches):
       // measured alone, the first configuration ran 2.3 times slower after a single warm-up.
-      FrameResult frame = timedRender(*method, context, item == 1 ? 5 : 1, o.runs, row.runMs);
+      FrameResult frame = timedRender(*method, frames, item == 1 ? 5 : 1, o.runs, row.runMs);
       std::vector<double> sorted = row.runMs;
       std::sort(sorted.begin(), sorted.end());
       row.ms = sorted[sorted.size() / 2];

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "oitref/core/metrics.h"
+#include "oitref/oit/frame.h"
 #include "oitref/oit/image_io.h"
 
 namespace oitref::tools {
@@ -28,18 +29,16 @@ SuiteScene runSuiteScene(const std::string& scenePath, Renderer& renderer, const
                          const std::string& outDir, uint64_t memoryLimit) {
   Scene scene = loadScene(scenePath, memoryLimit);
   if (width > 0) scene.width = width, scene.height = height;
-  const SceneGeometry geometry = buildSceneGeometry(scene);
-  const FrameContext context{scene, geometry, scene.width, scene.height, profile, renderer, memoryLimit};
+  const SceneFrames frames(std::move(scene), renderer, profile, memoryLimit);
   SuiteScene result;
   result.name = sceneName(scenePath);
-  result.width = scene.width, result.height = scene.height;
+  result.width = frames.scene().width, result.height = frames.scene().height;
   std::vector<MethodInfo> methods = allMethods();
   std::stable_partition(methods.begin(), methods.end(), [](const MethodInfo& m) { return m.name == "abuffer"; });
   Image truth;
   for (const MethodInfo& info : methods) {
     std::unique_ptr<Method> method = makeMethod(info.name);
-    checkMemory(*method, scene.width, scene.height, geometry, memoryLimit);
-    const FrameResult frame = method->render(context);
+    const FrameResult frame = frames.render(*method);
     if (info.name == "abuffer") {
       truth = frame.finalFloat;
       result.fragments = frame.stats.fragments.value_or(0);
@@ -83,10 +82,9 @@ std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Rende
   for (const std::string& path : sceneFiles(scenesDir)) {
     Scene scene = loadScene(path);
     scene.width = kReferenceWidth, scene.height = kReferenceHeight;
-    const SceneGeometry geometry = buildSceneGeometry(scene);
-    const FrameContext context{scene, geometry, scene.width, scene.height, exactProfile(), renderer};
+    const SceneFrames frames(std::move(scene), renderer);
     for (const MethodInfo& info : allMethods()) {
-      const FrameResult frame = makeMethod(info.name)->render(context);
+      const FrameResult frame = frames.render(*makeMethod(info.name));
       entries.push_back({sceneName(path), info.name, frameHash(frame)});
       if (write) writeImage((fs::path(dir) / (sceneName(path) + "_" + info.name + ".png")).string(), frame.final8);
     }

@@ -21,23 +21,37 @@ Scene sized(Scene scene, const FrameRequest& r) {
 
 }  // namespace
 
+SceneFrames::SceneFrames(Scene scene, Renderer& renderer, Profile profile, uint64_t memoryLimit)
+    : scene_(std::move(scene)), geometry_(buildSceneGeometry(scene_)), renderer_(renderer), profile_(profile),
+      memoryLimit_(memoryLimit) {}
+
+void SceneFrames::checkMemoryOf(const Method& method) const {
+  if (memoryLimit_ != UINT64_MAX) checkMemory(method, scene_.width, scene_.height, geometry_, memoryLimit_);
+}
+
+FrameResult SceneFrames::render(Method& method, AttachmentPool* pool) const {
+  checkMemoryOf(method);
+  return method.render(context(pool));
+}
+
+FrameContext SceneFrames::context(AttachmentPool* pool) const {
+  return FrameContext{scene_, geometry_, scene_.width, scene_.height, profile_, renderer_, memoryLimit_, pool};
+}
+
 FrameRenderer::FrameRenderer(Scene scene, FrameRequest request)
-    : scene_(sized(std::move(scene), request)),
-      request_(std::move(request)),
-      method_(makeMethod(request_.method, request_.options)),
-      geometry_(buildSceneGeometry(scene_)),
+    : request_(std::move(request)),
+      method_(makeMethod(request_.method, request_.options)),  // a bad method or option: before the scene's geometry
       renderer_(RendererOptions{.threads = request_.threads}),
+      frames_(sized(std::move(scene), request_), renderer_, request_.profile, request_.memoryLimit),
       pool_(std::make_unique<AttachmentPool>()) {
-  checkMemory(*method_, scene_.width, scene_.height, geometry_, request_.memoryLimit);
+  frames_.checkMemoryOf(*method_);
 }
 
 FrameRenderer::~FrameRenderer() = default;
 
 const FrameResult& FrameRenderer::render() {
   pool_->recycle(std::move(result_));
-  const FrameContext context{scene_, geometry_, scene_.width, scene_.height, request_.profile,
-                             renderer_, request_.memoryLimit, pool_.get()};
-  result_ = method_->render(context);
+  result_ = method_->render(frames_.context(pool_.get()));
   return result_;
 }
 
