@@ -32,14 +32,7 @@ f4 select4(i4 mask, f4 a, f4 b) { return (f4)(((i4)a & mask) | ((i4)b & ~mask));
 // fp32 → fp16 → fp32 in four lanes, rounding toward zero or to nearest even.
 template <bool kTowardZero>
 f4 throughHalf(f4 x) {
-#if defined(OITREF_HAVE_F16C)
-  constexpr int mode = (kTowardZero ? _MM_FROUND_TO_ZERO : _MM_FROUND_TO_NEAREST_INT) | _MM_FROUND_NO_EXC;
-  return (f4)_mm_cvtph_ps(_mm_cvtps_ph((__m128)x, mode));
-#else
-  f4 r;
-  for (int c = 0; c < 4; ++c) r[c] = decodeHalfInline(encodeHalfInline(x[c], kTowardZero ? Rounding::TowardZero : Rounding::NearestEven));
-  return r;
-#endif
+  return roundThroughHalf4(x, kTowardZero ? Rounding::TowardZero : Rounding::NearestEven);
 }
 
 // oneMinus in four lanes (operands normal: no NaN).

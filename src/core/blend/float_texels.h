@@ -30,12 +30,7 @@ inline v4f loadHalfTexel(const uint8_t* texel) {
 #endif
   uint16_t h[4] = {0, 0, 0, 0x3c00};
   for (int i = 0; i < Channels; ++i) std::memcpy(&h[i], texel + 2 * i, 2);
-#if defined(OITREF_HAVE_F16C)
-  const uint64_t bits = uint64_t(h[0]) | uint64_t(h[1]) << 16 | uint64_t(h[2]) << 32 | uint64_t(h[3]) << 48;
-  return (v4f)_mm_cvtph_ps(_mm_cvtsi64_si128(int64_t(bits)));
-#else
-  return v4f{decodeHalfInline(h[0]), decodeHalfInline(h[1]), decodeHalfInline(h[2]), decodeHalfInline(h[3])};
-#endif
+  return decodeHalf4Bits(uint64_t(h[0]) | uint64_t(h[1]) << 16 | uint64_t(h[2]) << 32 | uint64_t(h[3]) << 48);
 }
 // The lanes of 8 / Channels pixels side by side (the llvmpipe model's eight-lane batch): each
 // pixel's first Channels lanes of `px`, and beside every one of them that pixel's lane 3 (its

@@ -41,6 +41,32 @@ inline float decodeHalfInline(uint16_t bits) {
 #endif
 }
 
+// Four halves packed in 64 bits (channel 0 lowest) as four lanes of floats, decodeHalfInline's
+// rule in each: one VCVTPH2PS from a register (a texel of fewer channels, put together without a
+// store-forwarding stall).
+inline HalfLanes decodeHalf4Bits(uint64_t bits) {
+#if defined(OITREF_HAVE_F16C)
+  return (HalfLanes)_mm_cvtph_ps(_mm_cvtsi64_si128(int64_t(bits)));
+#else
+  return HalfLanes{decodeHalfInline(uint16_t(bits)), decodeHalfInline(uint16_t(bits >> 16)), decodeHalfInline(uint16_t(bits >> 32)),
+                   decodeHalfInline(uint16_t(bits >> 48))};
+#endif
+}
+
+// fp32 → fp16 → fp32 in four lanes: what a half target stores, read back (encodeHalfInline's
+// rule, then the exact decode), without leaving the registers.
+inline HalfLanes roundThroughHalf4(HalfLanes x, Rounding rounding) {
+#if defined(OITREF_HAVE_F16C)
+  const __m128i h = rounding == Rounding::TowardZero ? _mm_cvtps_ph((__m128)x, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
+                                                     : _mm_cvtps_ph((__m128)x, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+  return (HalfLanes)_mm_cvtph_ps(h);
+#else
+  HalfLanes r;
+  for (int c = 0; c < 4; ++c) r[c] = decodeHalfInline(encodeHalfInline(x[c], rounding));
+  return r;
+#endif
+}
+
 #if defined(OITREF_HAVE_F16C)
 // Four consecutive halves (an RGBA16F texel) as four floats: one conversion for the four, the same
 // per-element rule as decodeHalfInline (VCVTPH2PS, exact for every half).
