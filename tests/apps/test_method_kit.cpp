@@ -114,6 +114,9 @@ TEST_CASE("MethodOptions: integers, formats and choices converted in one place",
   CHECK(given.choice<Weight>("weight") == Weight::One);
   CHECK_THROWS_WITH(defaults.integer("bias"), Catch::Contains("option 'bias'") && Catch::Contains("not an integer"));
   CHECK_THROWS_AS(defaults.choice<Weight>("k"), std::logic_error);  // k has no choices
+  CHECK(defaults.is("weight", "z5"));
+  CHECK_FALSE(given.is("weight", "z5"));
+  CHECK_THROWS_WITH(defaults.is("weight", "z4"), Catch::Contains("no choice 'z4'"));  // a misspelt comparison
   CHECK_THROWS_WITH(MethodOptions(info, {{"k", "65"}}), Catch::Contains("outside 1..64"));
 }
 

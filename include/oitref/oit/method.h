@@ -105,6 +105,9 @@ class MethodOptions {
     return E(choiceIndex(key));
   }
   int choiceIndex(const std::string& key) const;
+  // Whether the option's value is `choice`: one of its choices (or "auto" where it allows that);
+  // naming anything else throws std::logic_error, so a misspelt comparison cannot be silently false.
+  bool is(const std::string& key, const std::string& choice) const;
   const std::map<std::string, std::string>& all() const { return values_; }
 
  private:

@@ -80,8 +80,8 @@ void main() {
   o1 = vec4(1.0);
 })",
                     {"accum", "count"}, "depth", transparentState(f.context().profile, additiveBlend()));
-  const bool thesis = o.text("transmittance") == "thesis_eq2.2";
-  const std::string average = averageOf("a.rgb", "a.a", o.text("clamp") != "none" ? "max(a.a, " + glslFloat(1e-4f) + ")" : "");
+  const bool thesis = o.is("transmittance", "thesis_eq2.2");
+  const std::string average = averageOf("a.rgb", "a.a", !o.is("clamp", "none") ? "max(a.a, " + glslFloat(1e-4f) + ")" : "");
   f.blendOverBackground(std::string(R"(
 void main() {
   float n = fetch(count).r;
@@ -129,7 +129,7 @@ void main() {
 
 // wboit.cpp: accum += (c·α·w, α·w), reveal *= (1 − α), resolve over the background.
 std::string wboit(GlFrame& f, const MethodOptions& o) {
-  if (o.text("layout") != "mrt")
+  if (!o.is("layout", "mrt"))
     throw std::invalid_argument("glcheck runs wboit with layout=mrt (listing 3) only (got layout=" + o.text("layout") + ")");
   f.opaquePass();
   f.clear("reveal", glm::vec4(1.0f));
@@ -153,7 +153,7 @@ void main() {
   o1 = vec4(c.a);
 })",
                     {"accum", "reveal"}, "depth", st, inputs);
-  f.blendOverBackground(weightedResolveMain(o.text("clamp") != "none"), {{"accum", "accum"}, {"reveal", "reveal"}});
+  f.blendOverBackground(weightedResolveMain(!o.is("clamp", "none")), {{"accum", "accum"}, {"reveal", "reveal"}});
   return "opaque";
 }
 
@@ -161,11 +161,11 @@ void main() {
 // driver's fp32 log/exp (mboit.cpp uses det_math.h's in double): the one place the GL version
 // cannot say exactly what the C++ says.
 std::string mboitFunctions(const MethodOptions& o, const Camera& camera) {
-  if (o.text("moments") != "power4" || o.text("storage") != "float")
+  if (!o.is("moments", "power4") || !o.is("storage", "float"))
     throw std::invalid_argument("glcheck runs mboit with moments=power4 storage=float only (got moments=" +
                                 o.text("moments") + " storage=" + o.text("storage") + ")");
-  const bool logWarp = o.text("warp") == "log", unitDepth = o.text("warp") == "unit";
-  const float bias = o.text("bias") == "auto" ? 5e-7f : float(o.number("bias"));  // power4's published β
+  const bool logWarp = o.is("warp", "log"), unitDepth = o.is("warp", "unit");
+  const float bias = o.is("bias", "auto") ? 5e-7f : float(o.number("bias"));  // power4's published β
   const float logRange = float(methods::detLog(double(camera.farPlane) / double(camera.nearPlane)));
   return "const float BIAS = " + glslFloat(bias) + ", OVERESTIMATION = " +
          glslFloat(float(o.number("overestimation"))) + ", NEAR = " + glslFloat(camera.nearPlane) +
@@ -233,13 +233,13 @@ void main() {
   float w = 1.0;
   if (b0 >= )" + glslFloat(0.00100050033f) + R"() {
     vec4 m = fetch(momentMap) / b0;
-    w = )" + std::string(o.text("saturate") == "none" ? "exp(-b0 * absorbance(m, warp()))" : "clamp(exp(-b0 * absorbance(m, warp())), 0.0, 1.0)") + R"(;
+    w = )" + std::string(o.is("saturate", "none") ? "exp(-b0 * absorbance(m, warp()))" : "clamp(exp(-b0 * absorbance(m, warp())), 0.0, 1.0)") + R"(;
   }
   o0 = vec4(c.rgb * c.a * w, c.a * w);
   o1 = vec4(c.a);
 })",
                     {"accum", "reveal"}, "depth", st, {{"b0Map", "b0"}, {"momentMap", "moments"}});
-  f.blendOverBackground(weightedResolveMain(o.text("clamp") != "none"), {{"accum", "accum"}, {"reveal", "reveal"}});
+  f.blendOverBackground(weightedResolveMain(!o.is("clamp", "none")), {{"accum", "accum"}, {"reveal", "reveal"}});
   return "opaque";
 }
 

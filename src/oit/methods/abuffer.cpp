@@ -54,7 +54,7 @@ void compositeBackToFront(const StoredFragment* list, const uint32_t* order, siz
 class Abuffer final : public Method {
  public:
   explicit Abuffer(const MethodOptions& o)
-      : useDouble_(o.text("precision") == "double"), maxFragments_(uint64_t(o.number("max_fragments"))) {}
+      : useDouble_(o.is("precision", "double")), maxFragments_(uint64_t(o.number("max_fragments"))) {}
   const MethodInfo& info() const override { return abufferInfo(); }
   std::vector<AttachmentDecl> attachments() const override { return AttachmentList().declared(); }
   // The frame's own buffers, and the fragments that the geometry alone shows it must store

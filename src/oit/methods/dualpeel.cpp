@@ -74,7 +74,7 @@ class Dualpeel final : public OpaqueFirstMethod {
         front_{declared.color("front_a", o.format("color"), "front layers so far, under-blended (premultiplied, alpha = coverage), ping"),
                declared.color("front_b", o.format("color"), "front layers so far, pong")},
         back_(declared.color("back", o.format("color"), "this pass's back layer (c, α)")),
-        allOutputs_(o.text("outputs") == "all") {}
+        allOutputs_(o.is("outputs", "all")) {}
   const MethodInfo& info() const override { return dualpeelInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {
     const Profile& profile = context.profile;

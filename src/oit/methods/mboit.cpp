@@ -66,14 +66,14 @@ void normaliseFourMoments(const glm::vec4* texels, const int* used, const float*
 class Mboit final : public OpaqueFirstMethod {
  public:
   explicit Mboit(const MethodOptions& o)
-      : set_(MomentSet::parse(o.text("moments"))), quantised_(o.text("storage") == "unorm16"),
-        bias_(o.text("bias") == "auto" ? set_.defaultBias(quantised_) : float(o.number("bias"))),
-        overestimation_(float(o.number("overestimation"))), logWarp_(o.text("warp") == "log"),
-        unitDepth_(o.text("warp") == "unit"), saturate_(o.text("saturate") == "auto" && !set_.trigonometric),
+      : set_(MomentSet::parse(o.text("moments"))), quantised_(o.is("storage", "unorm16")),
+        bias_(o.is("bias", "auto") ? set_.defaultBias(quantised_) : float(o.number("bias"))),
+        overestimation_(float(o.number("overestimation"))), logWarp_(o.is("warp", "log")),
+        unitDepth_(o.is("warp", "unit")), saturate_(o.is("saturate", "auto") && !set_.trigonometric),
         clamp_(resolveClampOption(o)) {
     // The thesis's depth in [0, 1] comes with its bias vector for four power moments (Algorithm 5);
     // the published vectors of the other sets and the 16-bit mapping assume depths in [−1, 1].
-    if (unitDepth_ && (o.text("moments") != "power4" || quantised_))
+    if (unitDepth_ && (!o.is("moments", "power4") || quantised_))
       throw std::invalid_argument("method 'mboit' option 'warp': unit (the thesis's depth in [0, 1]) needs moments=power4 storage=float");
     const std::string blend = quantised_ ? "normalised and quantised, read-modify-write in raster order"
                                          : "blended ONE, ONE";

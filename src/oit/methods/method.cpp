@@ -163,6 +163,17 @@ Format MethodOptions::format(const std::string& key) const {
   }
 }
 
+bool MethodOptions::is(const std::string& key, const std::string& choice) const {
+  for (const MethodOption& o : options_)
+    if (o.key == key) {
+      const bool declared = std::find(o.choices.begin(), o.choices.end(), choice) != o.choices.end() ||
+                            (o.number.orAuto && choice == "auto");
+      if (!declared) throw std::logic_error("method '" + method_ + "' option '" + key + "' has no choice '" + choice + "'");
+      return values_.at(key) == choice;
+    }
+  throw std::logic_error("method '" + method_ + "' has no option '" + key + "'");
+}
+
 int MethodOptions::choiceIndex(const std::string& key) const {
   for (const MethodOption& o : options_)
     if (o.key == key) {

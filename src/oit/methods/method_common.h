@@ -40,7 +40,7 @@ struct ResolveClamp {
 };
 // WBOIT's and MBOIT's option clamp=mb|none.
 inline ResolveClamp resolveClampOption(const MethodOptions& o) {
-  return o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp{};
+  return o.is("clamp", "none") ? ResolveClamp::none() : ResolveClamp{};
 }
 // S_oit of WBOIT and MBOIT (thesis eq. 2.7; with McGuire–Bavoil listing 3's clamp by default):
 // the weighted average accum.rgb / clamp(accum.a, low, high) and, as alpha, the revealage.

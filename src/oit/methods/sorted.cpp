@@ -21,7 +21,7 @@ double viewDepth(const glm::mat4& view, glm::dvec3 p) { return -(glm::dmat4(view
 
 class Sorted final : public OpaqueFirstMethod {
  public:
-  explicit Sorted(const MethodOptions& o) : byTriangle_(o.text("sort") == "triangle") {}
+  explicit Sorted(const MethodOptions& o) : byTriangle_(o.is("sort", "triangle")) {}
   const MethodInfo& info() const override { return sortedInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& targets, FrameResult& result) override {
     const glm::mat4 view = context.scene.camera.view();

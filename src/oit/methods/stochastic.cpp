@@ -132,7 +132,7 @@ const MethodInfo& stochasticInfo() {
   return info;
 }
 std::unique_ptr<Method> stochasticFactory(const MethodOptions& o) {
-  if (o.text("variant") == "vallius") return stochasticValliusFactory(o);
+  if (o.is("variant", "vallius")) return stochasticValliusFactory(o);
   return std::make_unique<Stochastic>(o);
 }
 

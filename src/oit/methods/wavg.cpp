@@ -22,8 +22,8 @@ class Wavg final : public OpaqueFirstMethod {
   explicit Wavg(const MethodOptions& o)
       : accum_(declared.color("accum", o.format("accum"), "C2q: Σ(c·α, α), blended ONE, ONE")),
         count_(declared.color("count", singleChannelFormat(o.text("accum")), "C2s: n, blended ONE, ONE")),
-        thesis_(o.text("transmittance") == "thesis_eq2.2"),
-        clamp_(o.text("clamp") == "none" ? ResolveClamp::none() : ResolveClamp::atLeast(1e-4f)) {}
+        thesis_(o.is("transmittance", "thesis_eq2.2")),
+        clamp_(o.is("clamp", "none") ? ResolveClamp::none() : ResolveClamp::atLeast(1e-4f)) {}
   const MethodInfo& info() const override { return wavgInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& /*result*/) override {  // after steps 1–3, the opaque pass
     Image& accum = t[accum_];

@@ -83,7 +83,7 @@ class Wboit final : public OpaqueFirstMethod {
  public:
   explicit Wboit(const MethodOptions& o)
       : weight_(o.choice<Weight>("weight")),
-        adaptive_(o.flag("adaptive")), single_(o.text("layout") == "single"),
+        adaptive_(o.flag("adaptive")), single_(o.is("layout", "single")),
         clamp_(resolveClampOption(o)) {
     // The thesis makes its own weights W1–W5 adaptive (z / z_s in place of z); McGuire–Bavoil's
     // eq. 7–10 have no adaptive form (7–9 read the view depth, where z / z_s would mean nothing).
