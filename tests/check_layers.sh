@@ -2,12 +2,12 @@
 # The layers' rule (docs/design.md): a layer includes only itself and the layers below it.
 # core (src/core, include/oitref/core) includes nothing of oit or apps; oit (src/oit,
 # include/oitref/oit) nothing of apps. Internal headers are included by folder, so a folder
-# names its layer: core's are format/ blend/ pipeline/ texture/ metrics/ util/, oit's scene/
-# methods/ groundtruth/ frame/ io/, apps' tools/ glcheck/ gpucapture/ python/.
+# names its layer: core's are format/ blend/ pipeline/ texture/ util/, oit's scene/ methods/
+# groundtruth/ frame/ io/ metrics/, apps' tools/ glcheck/ gpucapture/ python/.
 #   tests/check_layers.sh SOURCE_DIR
 set -euo pipefail
 cd "$1"
-oit='"(oitref/oit/|scene/|methods/|groundtruth/|frame/|io/)'
+oit='"(oitref/oit/|scene/|methods/|groundtruth/|frame/|io/|metrics/)'
 apps='"(oitref/apps/|tools/|glcheck/|gpucapture/|python/)'
 status=0
 check() {  # check WHAT PATTERN FOLDERS...

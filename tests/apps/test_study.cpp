@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 #include "temp_files.h"
 #include "oitref/oit/image_io.h"
 #include "tools/study.h"

@@ -11,7 +11,7 @@
 
 #include "oitref/oit/frame.h"
 #include "oitref/oit/method.h"
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 #include "oitref/oit/scene_geometry.h"
 #include "temp_files.h"
 

@@ -11,7 +11,7 @@
 
 #include "glcheck/gl_context.h"
 #include "glcheck/scene_timing.h"
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 
 namespace oitref::glcheck {
 

@@ -20,7 +20,7 @@
 #include "oitref/core/blend.h"
 #include "oitref/core/format.h"
 #include "oitref/oit/frame.h"
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 
 namespace py = pybind11;
 using namespace oitref;

@@ -1,4 +1,4 @@
-// `oitref compare A B`: how far image B is from image A (oitref/core/metrics.h), as text or JSON, with
+// `oitref compare A B`: how far image B is from image A (oitref/oit/metrics.h), as text or JSON, with
 // optional error and FLIP heatmaps.
 #include <cmath>
 #include <cstdio>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 #include "tools/commands.h"
 #include "oitref/oit/image_io.h"
 #include "tools/number_parse.h"

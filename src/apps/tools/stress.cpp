@@ -6,7 +6,7 @@
 #include <numeric>
 #include <thread>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 #include "oitref/oit/frame.h"
 #include "util/seeded_random.h"
 

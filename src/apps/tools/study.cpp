@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 #include "oitref/oit/frame.h"
 #include "oitref/oit/image_io.h"
 #include "tools/suite.h"

@@ -7,7 +7,7 @@
 #include <map>
 #include <sstream>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 #include "tools/html.h"
 #include "tools/number_parse.h"
 

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 #include "oitref/oit/frame.h"
 #include "oitref/oit/image_io.h"
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 
 using namespace oitref;
 

@@ -1,4 +1,4 @@
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 
 #include <algorithm>
 #include <cmath>

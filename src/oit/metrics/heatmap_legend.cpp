@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 
 namespace oitref {
 namespace {

@@ -53,7 +53,7 @@ Image errorHeatmapWithLegend(const Image& a, const Image& b, double scaleMax);
 // Difference Evaluator for Alternating Images", HPG 2020): the perceived difference between two
 // images shown on a display, per pixel in [0, 1]. Both images are taken as what a display shows:
 // their RGB values clamped to [0, 1] (NaN as 0) and read as sRGB-encoded. The steps, in the
-// paper's order, are documented in src/core/metrics/flip.cpp.
+// paper's order, are documented in src/oit/metrics/flip.cpp.
 struct FlipOptions {
   // Pixels per degree of visual angle: a 0.7 m wide 3840-pixel monitor seen from 0.7 m, the
   // paper's default.

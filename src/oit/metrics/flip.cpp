@@ -36,7 +36,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "oitref/core/metrics.h"
+#include "oitref/oit/metrics.h"
 
 namespace oitref {
 namespace {
