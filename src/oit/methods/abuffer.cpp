@@ -198,9 +198,7 @@ const MethodInfo& abufferInfo() {
       {{"precision", "float", "arithmetic of the OVER composite", {"float", "double"}},
        {"max_fragments", "50000000", "fragment budget (32 bytes each); exceeding it is an error", {},
         OptionNumber::integer(1, 0x1p40)}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"precision", "double"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

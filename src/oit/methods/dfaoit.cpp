@@ -99,9 +99,7 @@ const MethodInfo& dfaoitInfo() {
       "dfaoit",
       "deep and fast approximate OIT (Tsopouridis et al.): features of one pass, a trained 10-32-16-3 network",
       {{"accum", "rgba16f", "format of the feature targets (the paper: 16 bits per value)", {"rgba16f", "rgba32f"}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"accum", "rgba32f"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

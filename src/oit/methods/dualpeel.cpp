@@ -183,9 +183,7 @@ const MethodInfo& dualpeelInfo() {
         "changing: a peeling pass writes only what can change a target (the previous front copied, not passed through); "
         "all: every output of the sample's shader. The same bits",
         {"changing", "all"}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"color", "rgba32f"}}, {{"passes", "4"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

@@ -108,9 +108,7 @@ const MethodInfo& hybridInfo() {
       {{"k", "4", "fragments kept exactly per pixel (the core)", {"2", "4", "8", "16"}},
        {"core", "rgba32f", "format of the core's colour slots", {"rgba8", "rgba16f", "rgba32f"}},
        {"tail", "rgba16f", "tail accumulation format; its count uses the same encoding in one channel", {"rgba16f", "rgba32f"}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"k", "2"}}, {{"k", "8"}}, {{"k", "16"}}, {{"core", "rgba8"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

@@ -332,7 +332,6 @@ const MethodInfo& mboitInfo() {
                   "and its lower bound (overestimation 0), T = exp(−a·S) unclamped, eq. 2.7 unclamped, RGBA32F/R32F",
         {{"moments", "power4"}, {"storage", "float"}, {"bias", "0"}, {"overestimation", "0"}, {"warp", "unit"},
          {"saturate", "none"}, {"clamp", "none"}, {"accum", "rgba32f"}}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {
         {{"preset", "thesis"}},
         {{"bias", "0"}},
@@ -348,7 +347,6 @@ const MethodInfo& mboitInfo() {
         {{"moments", "power6"}, {"storage", "unorm16"}},
         {{"moments", "power8"}, {"storage", "unorm16"}},
         {{"moments", "trig2"}, {"storage", "unorm16"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{},
                         {{"accum", "rgba16f"}},
                         {{"warp", "log"}},

@@ -76,9 +76,7 @@ const MethodInfo& meshkin3Info() {
       {},
       "NaN where a fragment has α = 0 (1/α is inf in t2 and Π α is 0 in t3: inf·0 in the composite), as the "
       "particles' corners outside their disc; inf where Σ 1/α exceeds the format (α < 1/65520 in RGBA16F)"};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"format", "rgba32f"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

@@ -105,9 +105,7 @@ const MethodInfo& mlabInfo() {
   static const MethodInfo info = [] {
     MethodInfo i{"mlab", "multi-layer alpha blending (Salvi & Vaidyanathan 2014): k nodes, the farthest two merge",
                  nodeOptions()};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"k", "2"}}, {{"k", "8"}}, {{"node", "rgba8"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}, {{"node", "rgba8"}}};
     return i;
   }();
@@ -119,9 +117,7 @@ const MethodInfo& kbufferInfo() {
   static const MethodInfo info = [] {
     MethodInfo i{"kbuffer", "k-buffer: the k nearest fragments composited exactly, the rest dropped",
                  nodeOptions()};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"k", "8"}}, {{"k", "16"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

@@ -117,7 +117,6 @@ const MethodInfo& mtInfo() {
       "moment transparency (Sharpe 2018): 4 power moments of the log depth in [0, 1], MSM bound",
       {{"bias", "3e-7", "moment bias β towards (0, 0.375, 0, 0.375)", {}, OptionNumber::real(0, 1)},
        {"accum", "rgba32f", "accumulation format", {"rgba16f", "rgba32f"}}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

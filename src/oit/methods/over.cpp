@@ -48,9 +48,7 @@ const MethodInfo& overInfo() {
         "all: one draw with both faces; split: every back face, then every front face (two culled draws, as the "
         "bigwheels OIT demo); back, front: that side only",
         {"all", "split", "back", "front"}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"faces", "split"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

@@ -107,9 +107,7 @@ const MethodInfo& peelInfo() {
                   {"layer", "rgba8", "format of the peeled layer and the accumulator (thesis: RGBA8)",
                    {"rgba8", "rgba16f", "rgba32f"}}},
                  {{"thesis", "Algorithm 1 (the default): 32 iterations, RGBA8 C2 and C3", {{"passes", "32"}, {"layer", "rgba8"}}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"passes", "1"}}, {{"passes", "2"}}, {{"passes", "4"}}, {{"passes", "8"}}, {{"passes", "16"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

@@ -60,9 +60,7 @@ const MethodInfo& screendoorInfo() {
     MethodInfo i{"screendoor",
                  "screen-door transparency: opaque where α exceeds an ordered dither threshold (Vallius §4.4)",
                  {{"mask", "4", "side of the Bayer dither matrix (α resolves in steps of 1/mask²)", {"2", "4", "8"}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"mask", "8"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

@@ -91,7 +91,6 @@ const MethodInfo& sortedInfo() {
     MethodInfo i{"sorted",
                  "OVER after sorting transparent geometry back to front by centroid view depth",
                  {{"sort", "object", "what is sorted: whole objects or single triangles", {"object", "triangle"}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"sort", "triangle"}}};
     return i;
   }();

@@ -123,9 +123,7 @@ const MethodInfo& stochasticInfo() {
         OptionNumber::integer(0, 4294967295.0)},
        {"accum", "rgba16f", "accumulation format (vallius: the samples' target; listing 4.3's RGBA16F); the revealage uses the same encoding in one channel",
         {"rgba16f", "rgba32f"}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"samples", "16"}}, {{"samples", "32"}}, {{"variant", "vallius"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{}};
     return i;
   }();

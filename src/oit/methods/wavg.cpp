@@ -75,9 +75,7 @@ const MethodInfo& wavgInfo() {
        {"clamp", "max", "the average's divisor: max(Σα, 1e-4), or Σα itself as eq. 2.3 prints it (none)", {"max", "none"}}},
       {{"thesis", "Algorithm 3 as printed: C2q RGBA32F and C2s R32F (the thesis also ran 16F), eq. 2.2–2.3's transmittance and quotient",
         {{"accum", "rgba32f"}, {"transmittance", "thesis_eq2.2"}, {"clamp", "none"}}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"accum", "rgba32f"}}, {{"preset", "thesis"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{{"accum", "rgba16f"}}, {{"accum", "rgba32f"}}, {{"accum", "rgba:e8m7"}}};
     return i;
   }();

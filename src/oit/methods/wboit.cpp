@@ -182,10 +182,9 @@ const MethodInfo& wboitInfo() {
         {"mb", "none"}}},
       {{"thesis", "Algorithm 4 as printed: C2q RGBA32F, C2s R32F, W5 (the weight of most of the thesis's figures), eq. 2.7 without a clamp",
         {{"accum", "rgba32f"}, {"reveal", "r32f"}, {"weight", "az5"}, {"adaptive", "false"}, {"layout", "mrt"}, {"clamp", "none"}}}}};
-    // The configurations worth a row of `oitref study` beside the defaults: Algorithm 4 as
-    // printed, the thesis's "WBOIT 16F" (no weight, the 16-bit targets of its weighted average),
-    // its other weights in RGBA32F, and McGuire–Bavoil's own set-up (RGBA16F + R8) with their
-    // equations 7–10.
+    // The study rows: Algorithm 4 as printed, the thesis's "WBOIT 16F" (no weight, the 16-bit
+    // targets of its weighted average), its other weights in RGBA32F, and McGuire–Bavoil's own
+    // set-up (RGBA16F + R8) with their equations 7–10.
     i.studyVariants = {
         {{"preset", "thesis"}},
         {{"preset", "thesis"}, {"weight", "one"}, {"accum", "rgba16f"}, {"reveal", "r16f"}},
@@ -200,7 +199,6 @@ const MethodInfo& wboitInfo() {
         {{"weight", "mb10"}, {"accum", "rgba16f"}, {"reveal", "r8"}},
         // Listing 4: one blend function, the revealage in accum's alpha.
         {{"layout", "single"}, {"accum", "rgba16f"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{},
                         {{"accum", "rgba16f"}},
                         {{"accum", "rgba16f"}, {"reveal", "r8"}, {"weight", "mb7"}},

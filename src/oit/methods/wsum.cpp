@@ -66,9 +66,7 @@ const MethodInfo& wsumInfo() {
                  "weighted sum (Meshkin; thesis Algorithm 2): C = Σc·α + C0·(1 − Σα)",
                  {{"accum", "rgba16f", "accumulation target format (bfloat16 = rgba:e8m7, fp8 = rgba:e5m2)", {"rgba16f", "rgba32f", "rgba:e8m7", "rgba:e5m2"}}},
                  {{"thesis", "Algorithm 2 (the default): C2 RGBA16F, the composite into an RGBA8 C3", {{"accum", "rgba16f"}}}}};
-    // The configurations worth a row of `oitref study` beside the defaults.
     i.studyVariants = {{{"accum", "rgba32f"}}};
-    // The configurations of the stability atlas (`oitref stress`; {}: the defaults).
     i.stressVariants = {{{"accum", "rgba16f"}}, {{"accum", "rgba32f"}}, {{"accum", "rgba:e8m7"}}, {{"accum", "rgba:e5m2"}}};
     return i;
   }();
