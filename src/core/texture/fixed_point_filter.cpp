@@ -109,7 +109,7 @@ glm::vec4 filterFixedPoint(const Texture2D& tex, const SamplerState& sp, Texture
     for (int c = 0; c < 4; ++c) {
       int v = llvmpipeLevel(l1, f1, c);
       if (plan.mipLinear) v = lerp8(v, llvmpipeLevel(l2, f2, c), w);
-      out[c] = float(v) * (1.0f / 255.0f);  // llvmpipe's conversion: one fp32 multiply
+      out[c] = llvmpipeUnorm8ToFloat(v);
     }
     return out;
   }

@@ -34,7 +34,7 @@ float llvmpipeSrgbToLinear(int k) {
 float texelFloat(const Texture2D& tex, const TextureLevel& l, int i, int j, int c) {
   const int byte = l.texels[(size_t(j) * size_t(l.width) + size_t(i)) * 4 + size_t(c)];
   if (tex.format() == TextureFormat::Srgb8Alpha8 && c < 3) return llvmpipeSrgbToLinear(byte);
-  return float(byte) * (1.0f / 255.0f);
+  return llvmpipeUnorm8ToFloat(byte);
 }
 
 float lerp(float w, float v0, float v1) { return std::fma(w, v1 - v0, v0); }
