@@ -53,6 +53,7 @@ int runCommandLine(int argc, char** argv, AddCommandFn extra) {
   addSuiteCommand(app, exitCode);
   addStudyCommand(app, exitCode);
   addStressCommand(app, exitCode);
+  addJobCommands(app, exitCode);
   addTrainCommand(app, exitCode);
   addCompareCommand(app, exitCode);
   if (extra) extra(app, exitCode);

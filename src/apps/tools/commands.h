@@ -87,5 +87,6 @@ void addSuiteCommand(CLI::App& app, int& exitCode);
 void addStudyCommand(CLI::App& app, int& exitCode);
 void addStressCommand(CLI::App& app, int& exitCode);
 void addTrainCommand(CLI::App& app, int& exitCode);
+void addJobCommands(CLI::App& app, int& exitCode);  // job, collect
 
 }  // namespace oitref::tools

@@ -1,7 +1,10 @@
 #include "tools/study.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -109,7 +112,7 @@ void analyse(std::vector<PendingRow>& pending, StudyScene& s, const Image& truth
     row.rmse = d.rmse, row.psnr = d.psnr, row.maxError = d.maxAbs, row.nonFinitePixels = d.nonFinitePixels;
     row.flip = flipTruth.compare(p.finalFloat).mean;
     if (row.variant.method == "raycast" && row.variant.options.empty())
-      s.raycastRmse = d.rmse, s.raycastMax = d.maxAbs, s.raycastShareWithin = d.shareWithin();
+      s.raycastRmse = d.rmse, s.raycastMax = d.maxAbs, s.raycastShareWithin = d.shareWithin(), s.hasRaycast = true;
     writeImage((fs::path(o.outDir) / row.image).string(), p.final8);
     writeImage((fs::path(o.outDir) / row.heatmap).string(), errorHeatmap(truth, p.finalFloat, o.heatmapScale));
   });
@@ -122,63 +125,92 @@ constexpr size_t kPendingBytes = size_t(256) << 20;
 
 }  // namespace
 
-StudyResult runStudy(const StudyOptions& o, Renderer& renderer, const StudyProgress& progress) {
+StudyProgress studyProgressPrinter(bool quiet) {
+  if (quiet) return [](const std::string&, int, int) {};
+  const bool terminal = isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
+  return [terminal, start](const std::string& what, int i, int n) {
+    const int s = int(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    std::fprintf(stderr, "%s[%*d/%d] %02d:%02d %s%s", terminal ? "\r\033[K" : "", int(std::to_string(n).size()), i, n,
+                 s / 60, s % 60, what.c_str(), terminal ? "" : "\n");
+    std::fflush(stderr);
+  };
+}
+
+std::vector<StudyVariant> studyVariantsFor(const StudyOptions& o) {
   for (const std::string& m : o.methods) makeMethod(m);  // unknown names fail here, with a suggestion
   std::vector<StudyVariant> variants;
   for (const StudyVariant& v : studyVariants())
     if (wanted(o, v.method)) variants.push_back(v);
+  return variants;
+}
+
+StudyScene runStudyScene(const StudyOptions& o, const std::string& path, const std::vector<StudyVariant>& variants,
+                         Renderer& renderer, const StudyProgress& progress, int item, int items) {
+  Scene scene = loadScene(path, o.memoryLimit);
+  if (o.width > 0) scene.width = o.width, scene.height = o.height;
+  const SceneFrames frames(std::move(scene), renderer, o.profile, o.memoryLimit);
+  StudyScene s;
+  s.name = sceneName(path);
+  s.width = frames.scene().width, s.height = frames.scene().height;
+  fs::create_directories(fs::path(o.outDir) / s.name);
+  Image truth;
+  std::unique_ptr<FlipReference> flipTruth;  // the truth prepared once for ꟻLIP
+  // The A-buffer at its defaults: the ground truth, and the scene's fragment counts.
+  auto takeTruth = [&](const FrameResult& frame) {
+    s.fragments = frame.stats.fragments.value_or(0);
+    s.depthComplexityMax = int(frame.stats.depthComplexityMax.value_or(0));
+    truth = frame.finalFloat;
+    flipTruth = std::make_unique<FlipReference>(truth);
+  };
+  const StudyVariant groundTruth{"abuffer", {}};
+  const bool truthIsRow = !variants.empty() && variants.front().method == groundTruth.method && variants.front().options.empty();
+  if (!truthIsRow) {
+    std::unique_ptr<Method> method = makeMethod(groundTruth.method);
+    frames.checkMemoryOf(*method);
+    takeTruth(frames.render(*method));
+  }
+  std::vector<PendingRow> pending;
+  size_t pendingBytes = 0;
+  for (const StudyVariant& v : variants) {
+    progress(s.name + ": " + v.method + " " + v.label(), item, items);
+    std::unique_ptr<Method> method = makeMethod(v.method, v.options);
+    frames.checkMemoryOf(*method);
+    StudyRow row;
+    row.variant = v;
+    // The process's very first frames also warm it (thread pool, allocator, caches): measured
+    // alone, the first configuration ran 2.3 times slower after a single warm-up.
+    FrameResult frame = timedRender(*method, frames, item == 1 ? 5 : 1, o.runs, row.runMs);
+    ++item;
+    std::vector<double> sorted = row.runMs;
+    std::sort(sorted.begin(), sorted.end());
+    row.ms = sorted[sorted.size() / 2];
+    if (truthIsRow && s.rows.empty()) takeTruth(frame);
+    row.fragmentsShaded = frame.fragmentsShaded();
+    row.fragmentsPerSecond = row.ms > 0 ? double(row.fragmentsShaded) / (row.ms / 1000) : 0;
+    row.bytesPerPixel = method->bytesPerPixel();
+    row.passes = int(frame.passes.size());
+    row.note = noteOf(frame.stats);
+    row.image = s.name + "/" + v.slug() + ".png";
+    row.heatmap = s.name + "/" + v.slug() + "_error.png";
+    s.rows.push_back(row);
+    pendingBytes += frame.final8.bytes().size() + frame.finalFloat.bytes().size();
+    pending.push_back({s.rows.size() - 1, std::move(frame.final8), std::move(frame.finalFloat)});
+    if (pendingBytes >= kPendingBytes) analyse(pending, s, truth, *flipTruth, o, renderer), pendingBytes = 0;
+  }
+  analyse(pending, s, truth, *flipTruth, o, renderer);
+  return s;
+}
+
+StudyResult runStudy(const StudyOptions& o, Renderer& renderer, const StudyProgress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<StudyVariant> variants = studyVariantsFor(o);
   StudyResult result;
   result.threads = renderer.threads(), result.runs = o.runs, result.heatmapScale = o.heatmapScale;
   result.profile = o.profile.name;
   const int items = int(o.scenes.size() * variants.size());
-  int item = 0;
-  for (const std::string& path : o.scenes) {
-    Scene scene = loadScene(path, o.memoryLimit);
-    if (o.width > 0) scene.width = o.width, scene.height = o.height;
-    const SceneFrames frames(std::move(scene), renderer, o.profile, o.memoryLimit);
-    StudyScene s;
-    s.name = sceneName(path);
-    s.width = frames.scene().width, s.height = frames.scene().height;
-    const fs::path dir = fs::path(o.outDir) / s.name;
-    fs::create_directories(dir);
-    Image truth;
-    std::unique_ptr<FlipReference> flipTruth;  // the truth prepared once for ꟻLIP
-    std::vector<PendingRow> pending;
-    size_t pendingBytes = 0;
-    for (const StudyVariant& v : variants) {
-      progress(s.name + ": " + v.method + " " + v.label(), ++item, items);
-      std::unique_ptr<Method> method = makeMethod(v.method, v.options);
-      frames.checkMemoryOf(*method);
-      StudyRow row;
-      row.variant = v;
-      // The study's very first frames also warm the process (thread pool, allocator, caches):
-      // measured alone, the first configuration ran 2.3 times slower after a single warm-up.
-      FrameResult frame = timedRender(*method, frames, item == 1 ? 5 : 1, o.runs, row.runMs);
-      std::vector<double> sorted = row.runMs;
-      std::sort(sorted.begin(), sorted.end());
-      row.ms = sorted[sorted.size() / 2];
-      if (s.rows.empty()) {  // the A-buffer at its defaults: the ground truth
-        s.fragments = frame.stats.fragments.value_or(0);
-        s.depthComplexityMax = int(frame.stats.depthComplexityMax.value_or(0));
-        truth = frame.finalFloat;
-        flipTruth = std::make_unique<FlipReference>(truth);
-      }
-      row.fragmentsShaded = frame.fragmentsShaded();
-      row.fragmentsPerSecond = row.ms > 0 ? double(row.fragmentsShaded) / (row.ms / 1000) : 0;
-      row.bytesPerPixel = method->bytesPerPixel();
-      row.passes = int(frame.passes.size());
-      row.note = noteOf(frame.stats);
-      row.image = s.name + "/" + v.slug() + ".png";
-      row.heatmap = s.name + "/" + v.slug() + "_error.png";
-      s.rows.push_back(row);
-      pendingBytes += frame.final8.bytes().size() + frame.finalFloat.bytes().size();
-      pending.push_back({s.rows.size() - 1, std::move(frame.final8), std::move(frame.finalFloat)});
-      if (pendingBytes >= kPendingBytes) analyse(pending, s, truth, *flipTruth, o, renderer), pendingBytes = 0;
-    }
-    analyse(pending, s, truth, *flipTruth, o, renderer);
-    result.scenes.push_back(s);
-  }
+  for (size_t i = 0; i < o.scenes.size(); ++i)
+    result.scenes.push_back(runStudyScene(o, o.scenes[i], variants, renderer, progress, int(i * variants.size()) + 1, items));
   result.totalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -38,6 +38,10 @@ struct StudyRow {
   size_t nonFinitePixels = 0;
   std::string note;                // how far peeling got (FrameStats), worth a glance
   std::string image, heatmap;      // paths relative to the report folder
+  // Run as a job of a plan (oitref job): its index and the node that timed it; -1 and "" when the
+  // whole study ran in one process.
+  int job = -1;
+  std::string node;
 };
 
 struct StudyScene {
@@ -45,8 +49,10 @@ struct StudyScene {
   int width = 0, height = 0;
   uint64_t fragments = 0;
   int depthComplexityMax = 0;
-  // The A-buffer checked against the ray cast, an independent ground truth.
+  // The A-buffer checked against the ray cast, an independent ground truth (hasRaycast: the
+  // ray cast's row was among the variants rendered).
   double raycastRmse = 0, raycastMax = 0, raycastShareWithin = 0;
+  bool hasRaycast = false;
   std::vector<StudyRow> rows;  // rows[0] is the A-buffer
 };
 
@@ -66,11 +72,32 @@ struct StudyResult {
   int threads = 0, runs = 0;
   double heatmapScale = 0;
   std::string profile;
-  double totalSeconds = 0;
+  double totalSeconds = 0;  // run as jobs: the sum of the jobs' times
+  // Run as jobs of a plan (oitref collect): how many, and the nodes that ran them (sorted); 0 and
+  // empty for a study in one process. threads is then the jobs' count where they all had the same.
+  int jobs = 0;
+  std::vector<std::string> nodes;
 };
 
 // Progress: (what, index of the item, number of items).
 using StudyProgress = std::function<void(const std::string&, int, int)>;
+
+// "[ 12/210] 00:07 ballpark: wboit weight=mb7" on stderr: a line per item, or one line rewritten
+// in place when stderr is a terminal; nothing when quiet.
+StudyProgress studyProgressPrinter(bool quiet);
+
+// The configurations the options ask for, in studyVariants()'s order (the A-buffer first); an
+// unknown method in options.methods fails here, with a suggestion.
+std::vector<StudyVariant> studyVariantsFor(const StudyOptions& options);
+
+// One scene of the study, for `variants` (studyVariantsFor's list, or a run of it): renders,
+// times and measures them and writes their images (and error heatmaps) under
+// options.outDir/<scene>/. Every row is measured against the A-buffer at its defaults; where
+// `variants` does not start with it, it is rendered first, untimed, for the truth alone (frames
+// are the same bits in every process, so a job of a plan measures what the whole study would).
+// `firstItem` numbers the progress lines; the process's first item gets five warm-up frames.
+StudyScene runStudyScene(const StudyOptions& options, const std::string& scenePath, const std::vector<StudyVariant>& variants,
+                         Renderer& renderer, const StudyProgress& progress, int firstItem, int items);
 
 // Renders, times and measures everything; writes the images (and their error heatmaps) under
 // options.outDir/<scene>/.

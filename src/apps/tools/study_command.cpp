@@ -9,6 +9,7 @@
 #include "tools/commands.h"
 #include "oitref/oit/image_io.h"
 #include "tools/study.h"
+#include "tools/study_jobs.h"
 #include "tools/study_report.h"
 #include "tools/suite.h"
 
@@ -17,25 +18,11 @@ namespace {
 
 struct StudyCommandOptions {
   std::vector<std::string> scenes, methods;
-  std::string out = "out/study", size, profile = "exact", memoryLimit;
-  int threads = 0, runs = 5;
+  std::string out = "out/study", size, profile = "exact", memoryLimit, plan;
+  int threads = 0, runs = 5, perJob = 0;
   double heatmapScale = 0.25;
   bool quiet = false;
 };
-
-// "[ 12/210] 00:07 ballpark: wboit weight=mb7": a line per item, or one line rewritten in place
-// when stderr is a terminal.
-StudyProgress progressPrinter(bool quiet) {
-  if (quiet) return [](const std::string&, int, int) {};
-  const bool terminal = isatty(STDERR_FILENO);
-  const auto start = std::chrono::steady_clock::now();
-  return [terminal, start](const std::string& what, int i, int n) {
-    const int s = int(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    std::fprintf(stderr, "%s[%*d/%d] %02d:%02d %s%s", terminal ? "\r\033[K" : "", int(std::to_string(n).size()), i, n,
-                 s / 60, s % 60, what.c_str(), terminal ? "" : "\n");
-    std::fflush(stderr);
-  };
-}
 
 int runStudyCommand(const StudyCommandOptions& c) {
   StudyOptions o;
@@ -49,13 +36,20 @@ int runStudyCommand(const StudyCommandOptions& c) {
   o.runs = c.runs, o.heatmapScale = c.heatmapScale, o.methods = c.methods;
   o.profile = parseProfile(c.profile);
   o.memoryLimit = memoryLimitFrom(c.memoryLimit);
+  if (!c.plan.empty()) {
+    const Plan plan = planStudy({o, c.profile, c.memoryLimit, c.perJob}, c.plan);
+    std::printf("oitref study: planned %d jobs over %zu scenes in %s\n"
+                "run each with `oitref job %s INDEX` (INDEX 0–%d; scripts/slurm/submit.sh %s submits them to Slurm), "
+                "then `oitref collect %s` writes the report into %s\n",
+                plan.jobCount(), plan.inputs.size(), c.plan.c_str(), c.plan.c_str(), plan.jobCount() - 1, c.plan.c_str(),
+                c.plan.c_str(), studyReportFolder(plan).c_str());
+    return 0;
+  }
   Renderer renderer(RendererOptions{.threads = c.threads});
-  const StudyResult result = runStudy(o, renderer, progressPrinter(c.quiet));
+  const StudyResult result = runStudy(o, renderer, studyProgressPrinter(c.quiet));
   if (!c.quiet && isatty(STDERR_FILENO)) std::fputs("\n", stderr);
   const std::filesystem::path dir(c.out);
-  writeTextFile((dir / "results.json").string(), studyJson(result));
-  writeTextFile((dir / "results.csv").string(), studyCsv(result));
-  writeTextFile((dir / "index.html").string(), studyHtml(result));
+  writeStudyReport(result, c.out);
   std::printf("oitref study: %zu scenes × %zu configurations, %d threads, %.1f s\nreport: %s\n", result.scenes.size(),
               result.scenes.empty() ? size_t(0) : result.scenes[0].rows.size(), result.threads, result.totalSeconds,
               std::filesystem::absolute(dir / "index.html").lexically_normal().c_str());
@@ -77,6 +71,12 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--heatmap-scale", o->heatmapScale, "Error drawn white in the heatmaps")->capture_default_str();
   addQuietFlag(cmd, o->quiet);
   addMemoryLimitOption(cmd, o->memoryLimit);
+  nonEmptyPath(cmd->add_option("--plan", o->plan,
+                               "Render nothing: write the study as jobs into this plan folder, for `oitref job` (e.g. on a "
+                               "Slurm cluster: scripts/slurm/submit.sh) and `oitref collect`"));
+  cmd->add_option("--configurations-per-job", o->perJob,
+                  "With --plan: configurations of one scene per job (default: about 2^28 pixel-frames of work a job)")
+      ->check(CLI::Range(1, 100000));
   cmd->callback([o, &exitCode] { exitCode = runReportingErrors("study", [&] { return runStudyCommand(*o); }); });
 }
 

@@ -4,9 +4,11 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
+#include "oitref/oit/image_io.h"
 #include "oitref/oit/metrics.h"
 #include "tools/html.h"
 #include "tools/number_parse.h"
@@ -273,6 +275,24 @@ const ThesisMemoryRow* thesisMemoryRow(const StudyVariant& v) {
   return nullptr;
 }
 
+namespace {
+
+// A study run as jobs of a plan: its times come from separate processes, maybe other nodes and
+// hours; the page says so where the figures are read.
+std::string distributedNote(const StudyResult& result) {
+  if (result.jobs == 0) return "";
+  std::string nodes;
+  for (const std::string& n : result.nodes) nodes += (nodes.empty() ? "" : ", ") + escape(n);
+  return "<p class=distributed><b>Run as " + std::to_string(result.jobs) + " jobs</b> (<code>oitref job</code>, put together by "
+         "<code>oitref collect</code>) on " + std::to_string(result.nodes.size()) + (result.nodes.size() == 1 ? " node: " : " nodes: ") +
+         nodes + (result.threads ? "" : "; the jobs had different thread counts") +
+         ". Its times come from different processes" + (result.nodes.size() > 1 ? " on different nodes" : "") +
+         ", measured at different times: compare times within a job (results.json gives each row's job and node); the "
+         "total is the sum of the jobs' times. The images and error figures are those one process would have written.</p>\n";
+}
+
+}  // namespace
+
 std::string studyHtml(const StudyResult& result) {
   std::map<std::string, int> colours;
   std::ostringstream o;
@@ -284,7 +304,8 @@ std::string studyHtml(const StudyResult& result) {
     << " s in all. Errors are against the A-buffer: RMSE, PSNR and max over RGB of the RGBA32F result, ꟻLIP (LDR, "
        "Andersson et al. 2020, 67 pixels per degree) of the same result as a display shows it (clamped to [0, 1], "
        "read as sRGB). Every number is also in "
-       "<a href=results.json>results.json</a> and <a href=results.csv>results.csv</a>.</p>\n<nav>";
+       "<a href=results.json>results.json</a> and <a href=results.csv>results.csv</a>.</p>\n"
+    << distributedNote(result) << "<nav>";
   for (const StudyScene& s : result.scenes) o << "<a href=\"#scene-" << escape(s.name) << "\">" << escape(s.name) << "</a>";
   o << "<a href=#timing>timing</a><a href=#memory>memory</a></nav>\n";
   for (const StudyScene& s : result.scenes) o << sceneSection(s, result.heatmapScale, colours);
@@ -296,7 +317,13 @@ std::string studyJson(const StudyResult& result) {
   std::ostringstream o;
   o << "{\n  \"threads\": " << result.threads << ", \"runs\": " << result.runs << ", \"profile\": "
     << jsonString(result.profile) << ", \"heatmap_scale\": " << jsonNumber(result.heatmapScale)
-    << ", \"total_seconds\": " << jsonNumber(result.totalSeconds) << ",\n  \"scenes\": [";
+    << ", \"total_seconds\": " << jsonNumber(result.totalSeconds);
+  if (result.jobs > 0) {
+    o << ", \"jobs\": " << result.jobs << ", \"nodes\": [";
+    for (size_t i = 0; i < result.nodes.size(); ++i) o << (i ? ", " : "") << jsonString(result.nodes[i]);
+    o << "]";
+  }
+  o << ",\n  \"scenes\": [";
   for (size_t si = 0; si < result.scenes.size(); ++si) {
     const StudyScene& s = result.scenes[si];
     o << (si ? "," : "") << "\n    {\"name\": " << jsonString(s.name) << ", \"width\": " << s.width << ", \"height\": "
@@ -316,7 +343,9 @@ std::string studyJson(const StudyResult& result) {
         << ", \"rmse\": " << jsonNumber(r.rmse) << ", \"psnr\": " << jsonNumber(r.psnr) << ", \"flip\": "
         << jsonNumber(r.flip) << ", \"max_error\": " << jsonNumber(r.maxError) << ", \"non_finite_pixels\": "
         << r.nonFinitePixels << ", \"note\": " << jsonString(r.note) << ", \"image\": " << jsonString(r.image)
-        << ", \"heatmap\": " << jsonString(r.heatmap) << "}";
+        << ", \"heatmap\": " << jsonString(r.heatmap);
+      if (r.job >= 0) o << ", \"job\": " << r.job << ", \"node\": " << jsonString(r.node);
+      o << "}";
     }
     o << "\n    ]}";
   }
@@ -324,16 +353,25 @@ std::string studyJson(const StudyResult& result) {
   return o.str();
 }
 
+void writeStudyReport(const StudyResult& result, const std::string& dir) {
+  const std::filesystem::path folder(dir);
+  std::filesystem::create_directories(folder);
+  writeTextFile((folder / "results.json").string(), studyJson(result));
+  writeTextFile((folder / "results.csv").string(), studyCsv(result));
+  writeTextFile((folder / "index.html").string(), studyHtml(result));
+}
+
 std::string studyCsv(const StudyResult& result) {
   std::ostringstream o;
   o << "scene,method,variant,ms,fragments_shaded,fragments_per_second,bytes_per_pixel,passes,rmse,psnr,flip,max_error,"
-       "non_finite_pixels,threads,runs\n";
+       "non_finite_pixels,threads,runs" << (result.jobs > 0 ? ",job,node" : "") << "\n";
   for (const StudyScene& s : result.scenes)
     for (const StudyRow& r : s.rows)
       o << s.name << "," << r.variant.method << "," << r.variant.label() << "," << jsonNumber(r.ms) << ","
         << r.fragmentsShaded << "," << jsonNumber(r.fragmentsPerSecond) << "," << r.bytesPerPixel << "," << r.passes << ","
         << jsonNumber(r.rmse) << "," << jsonNumber(r.psnr) << "," << jsonNumber(r.flip) << "," << jsonNumber(r.maxError)
-        << "," << r.nonFinitePixels << "," << result.threads << "," << result.runs << "\n";
+        << "," << r.nonFinitePixels << "," << result.threads << "," << result.runs
+        << (r.job >= 0 ? "," + std::to_string(r.job) + "," + r.node : std::string()) << "\n";
   return o.str();
 }
 

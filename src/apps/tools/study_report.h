@@ -12,6 +12,8 @@ namespace oitref::tools {
 std::string studyHtml(const StudyResult& result);
 std::string studyJson(const StudyResult& result);
 std::string studyCsv(const StudyResult& result);
+// index.html, results.json and results.csv into `dir` (created if need be).
+void writeStudyReport(const StudyResult& result, const std::string& dir);
 
 // Indices of the rows on the speed–accuracy Pareto front: no other row is at least as fast and at
 // least as accurate and better in one (errors below `floor` count as `floor`). The ground truth
