@@ -68,4 +68,24 @@ expect 2 "job 0: missing" "$oitref" collect "$work/plan-k"
 "$oitref" collect "$work/plan" --resume --quiet > /dev/null
 python3 tests/compare_study.py "$work/local" "$work/report"
 grep -q "the jobs had different thread counts" "$work/report/index.html" || fail "the report hides that its jobs' thread counts differ"
+
+# The other commands with --plan: the atlas's files, the suite's tables (but their times) and
+# images, the golden set's check, each as the single machine writes them.
+stress=(--methods wboit,mboit --conditions base,hdr --max-layers 64)
+"$oitref" stress "${stress[@]}" --quiet --out "$work/atlas-local" > /dev/null
+"$oitref" stress "${stress[@]}" --out "$work/atlas" --plan "$work/plan-s" --rows-per-job 3 > /dev/null
+"$oitref" collect "$work/plan-s" --resume --quiet > /dev/null
+for f in atlas.json atlas.csv; do cmp "$work/atlas-local/$f" "$work/atlas/$f" || fail "the collected atlas's $f differs"; done
+grep -q "Run as 8 jobs" "$work/atlas/atlas.html" || fail "the collected atlas does not say it was run as jobs"
+suite=(scenes/glass.json scenes/veils.json --size 48x27)
+"$oitref" suite "${suite[@]}" --out "$work/suite-local" > "$work/suite-local.txt"
+"$oitref" suite "${suite[@]}" --out "$work/suite" --plan "$work/plan-u" > /dev/null
+"$oitref" collect "$work/plan-u" --resume --quiet > "$work/suite.txt"
+untimed() { grep -v '^Run as' "$1" | sed -E 's/^(  [a-z0-9]+ +)[0-9.]+/\1/; s|images in .*||'; }
+diff <(untimed "$work/suite-local.txt") <(untimed "$work/suite.txt") || fail "the collected suite's tables differ beyond their times"
+diff -r "$work/suite-local" "$work/suite" || fail "the collected suite's images differ"
+"$oitref" reference --plan "$work/plan-r" > /dev/null
+"$oitref" collect "$work/plan-r" --resume --quiet > "$work/reference.txt" || fail "the golden set's check through jobs failed"
+[ "$(tail -n 1 "$work/reference.txt")" = "$("$oitref" reference | tail -n 1)" ] || fail "collect's check of the golden set is not the single machine's"
+grep -q "^identical: " "$work/reference.txt" || fail "the golden set is not identical through jobs"
 echo "plan, job and collect: every check passed"

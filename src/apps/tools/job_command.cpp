@@ -1,15 +1,13 @@
-// `oitref job DIR INDEX` (one job of a plan folder) and `oitref collect DIR` (the report from the
-// jobs' results): the cluster's side of `oitref study … --plan DIR` (job_plan.h).
+// `oitref job DIR INDEX` (one job of a plan folder) and `oitref collect DIR` (what the command
+// writes, from the jobs' results): the cluster's side of `--plan DIR` (job_plan.h, plan_kinds.h).
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <iostream>
 #include <memory>
 
 #include "tools/commands.h"
 #include "tools/job_plan.h"
-#include "tools/study_jobs.h"
-#include "tools/study_report.h"
+#include "tools/plan_kinds.h"
 
 namespace oitref::tools {
 namespace {
@@ -44,33 +42,28 @@ int parseJobIndex(const Plan& plan, const std::string& text) {
   return int(index);
 }
 
-// Runs job `index` of the plan in this process.
-void runJob(const Plan& plan, int index, Renderer& renderer, bool quiet) {
-  if (plan.kind != "study") throw std::invalid_argument(plan.dir + ": plans of kind '" + plan.kind + "' are not known to this oitref");
-  const StudyProgress progress = studyProgressPrinter(quiet);
-  const std::string prefix = plan.jobName(index) + " of " + std::to_string(plan.jobCount()) + ": ";
-  runPlanJob(plan, index, [&](const std::string& staging) {
-    return runStudyJob(plan, index, staging, renderer,
-                       [&](const std::string& what, int i, int n) { progress(prefix + what, i, n); });
-  });
+void runJob(const Plan& plan, const PlanKind& kind, int index, Renderer& renderer, bool quiet) {
+  try {
+    runPlanJob(plan, index, [&](const std::string& staging) { return kind.runJob(plan, index, staging, renderer, quiet); });
+  } catch (const std::exception& e) {
+    throw std::runtime_error(plan.dir + ": " + plan.jobName(index) + " failed: " + e.what());
+  }
 }
 
 int runJobCommand(const JobCommandOptions& c) {
   const Plan plan = readPlan(c.dir);
   const int index = parseJobIndex(plan, c.index);
+  const PlanKind& kind = planKindOf(plan);
   requirePlanner(plan);
   Renderer renderer(RendererOptions{.threads = threadsFor(c.threads)});
-  try {
-    runJob(plan, index, renderer, c.quiet);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(plan.dir + ": " + plan.jobName(index) + " failed: " + e.what());
-  }
+  runJob(plan, kind, index, renderer, c.quiet);
   if (!c.quiet) std::printf("%s: %s done, %d threads\n", c.dir.c_str(), plan.jobName(index).c_str(), renderer.threads());
   return 0;
 }
 
 int runCollectCommand(const JobCommandOptions& c) {
   const Plan plan = readPlan(c.dir);
+  const PlanKind& kind = planKindOf(plan);
   requirePlanner(plan);
   std::vector<JobState> states;
   std::vector<int> notDone;
@@ -78,15 +71,15 @@ int runCollectCommand(const JobCommandOptions& c) {
     states.push_back(readJobState(plan, i));
     if (states.back().kind != JobState::Done) notDone.push_back(i);
   }
-  if (c.missing) {  // for a re-submission: `sbatch --array=$(oitref collect DIR --missing)`
+  if (c.missing) {  // for a re-submission: sbatch --array=$(oitref collect DIR --missing)
     std::printf("%s\n", indexRanges(notDone).c_str());
     return 0;
   }
   if (!notDone.empty() && c.resume) {
     Renderer renderer(RendererOptions{.threads = threadsFor(c.threads)});
     for (int i : notDone) {
-      if (!c.quiet) std::fprintf(stderr, "%s\n", describeJobState(plan, i, states[size_t(i)]).c_str());
-      runJob(plan, i, renderer, c.quiet);
+      if (!c.quiet) std::cerr << c.dir << ": " << describeJobState(plan, i, states[size_t(i)]) << "; running it\n";
+      runJob(plan, kind, i, renderer, c.quiet);
       states[size_t(i)] = readJobState(plan, i);
     }
     notDone.clear();
@@ -100,33 +93,27 @@ int runCollectCommand(const JobCommandOptions& c) {
   }
   std::vector<nlohmann::json> results;
   for (JobState& s : states) results.push_back(std::move(s.result));
-  const std::string out = c.out.empty() ? studyReportFolder(plan) : c.out;
-  const StudyResult result = collectStudy(plan, results, out);
-  writeStudyReport(result, out);
-  std::printf("oitref collect: %zu scenes × %zu configurations from %d jobs on %zu node%s, %.1f s of jobs\nreport: %s\n",
-              result.scenes.size(), result.scenes.empty() ? size_t(0) : result.scenes[0].rows.size(), result.jobs,
-              result.nodes.size(), result.nodes.size() == 1 ? "" : "s", result.totalSeconds,
-              (std::filesystem::absolute(out) / "index.html").lexically_normal().c_str());
-  return 0;
+  return kind.collect(plan, results, c.out);
 }
 
 }  // namespace
 
 void addJobCommands(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<JobCommandOptions>();
-  CLI::App* job = app.add_subcommand("job", "Run one job of a plan folder (oitref study --plan), e.g. as a Slurm array task");
+  CLI::App* job = app.add_subcommand("job", "Run one job of a plan folder (study, stress, suite or reference --plan), e.g. as a Slurm array task");
   job->add_option("dir", o->dir, "Plan folder")->required();
   job->add_option("index", o->index, "Job index, from 0 (a Slurm array task: $SLURM_ARRAY_TASK_ID)")->required();
   addThreadsOption(job, o->threads, "Worker threads (0: all; default: $SLURM_CPUS_PER_TASK where set, else all)");
   addQuietFlag(job, o->quiet);
   job->callback([o, &exitCode] { exitCode = runReportingErrors("job", [&] { return runJobCommand(*o); }); });
 
-  CLI::App* collect = app.add_subcommand("collect", "Check a plan folder's jobs and write the report they make together");
+  CLI::App* collect = app.add_subcommand("collect", "Check a plan folder's jobs and write what its command writes on one machine");
   collect->add_option("dir", o->dir, "Plan folder")->required();
-  nonEmptyPath(collect->add_option("--out", o->out, "Report folder (default: the --out the plan was made with)"));
-  collect->add_flag("--resume", o->resume, "Run the jobs that are missing or failed in this process first");
+  nonEmptyPath(collect->add_option("--out", o->out, "Report folder (default: the one the plan was made with)"));
+  CLI::Option* resume = collect->add_flag("--resume", o->resume, "Run the jobs that are missing or failed in this process first");
   collect->add_flag("--missing", o->missing,
-                    "Only print the indices of the jobs missing or failed, as a Slurm --array list (\"2,5-7\"; empty when none)");
+                    "Only print the indices of the jobs missing or failed, as a Slurm --array list (\"2,5-7\"; empty when none)")
+      ->excludes(resume);
   addThreadsOption(collect, o->threads, "Worker threads for --resume (0: all; default: $SLURM_CPUS_PER_TASK where set, else all)");
   addQuietFlag(collect, o->quiet);
   collect->callback([o, &exitCode] { exitCode = runReportingErrors("collect", [&] { return runCollectCommand(*o); }); });

@@ -2,7 +2,7 @@
 
 #include <unistd.h>
 
-#include <cerrno>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -126,6 +126,12 @@ void writePlan(Plan& p) {
   j["planned_on"] = hostName();
   j["planned_at"] = utcNow();
   writeTextFile(manifest.string(), j.dump(1) + "\n");
+}
+
+std::string plannedMessage(const std::string& command, const Plan& p, const std::string& collectWrites) {
+  return "oitref " + command + ": planned " + std::to_string(p.jobCount()) + " jobs in " + p.dir + "\nrun each with `oitref job " +
+         p.dir + " INDEX` (INDEX 0–" + std::to_string(p.jobCount() - 1) + "; on Slurm: scripts/slurm/submit.sh " + p.dir +
+         "), then `oitref collect " + p.dir + "` writes " + collectWrites + "\n";
 }
 
 Plan readPlan(const std::string& dir) {
@@ -259,6 +265,18 @@ std::string describeJobState(const Plan& p, int index, const JobState& s) {
     case JobState::Missing: break;
   }
   return p.jobName(index) + ": missing (not run yet, still running, or killed before it finished)";
+}
+
+std::vector<JobRun> evenRuns(int total, int atMost) {
+  std::vector<JobRun> runs;
+  if (total <= 0) return runs;
+  const int count = (total + std::max(atMost, 1) - 1) / std::max(atMost, 1);
+  for (int k = 0, first = 0; k < count; ++k) {
+    const int length = total / count + (k < total % count ? 1 : 0);
+    runs.push_back({first, length});
+    first += length;
+  }
+  return runs;
 }
 
 std::string indexRanges(const std::vector<int>& v) {

@@ -52,6 +52,8 @@ struct Plan {
 
 // Writes DIR/plan.json (DIR must not hold a plan already); fills plan.id.
 void writePlan(Plan& plan);
+// What a command says after planning: how many jobs, how to run them, what collect will write.
+std::string plannedMessage(const std::string& command, const Plan& plan, const std::string& collectWrites);
 // Reads DIR/plan.json; errors name the folder and what is wrong with it.
 Plan readPlan(const std::string& dir);
 // Throws unless this process is the oitref that made the plan.
@@ -75,6 +77,13 @@ struct JobState {
 };
 JobState readJobState(const Plan& plan, int index);
 std::string describeJobState(const Plan& plan, int index, const JobState& state);  // one line for the user
+
+// 0…total−1 cut into runs of at most `atMost`, as few as that allows and of nearly equal length
+// (the first total % runs one longer): the jobs' shares of a list of work items.
+struct JobRun {
+  int first = 0, count = 0;
+};
+std::vector<JobRun> evenRuns(int total, int atMost);
 
 // "0-3,7,9-10": the indices as a Slurm --array list.
 std::string indexRanges(const std::vector<int>& indices);

@@ -165,7 +165,7 @@ StressCell stressCell(const StressConfig& config, const StressCondition& conditi
   return cell;
 }
 
-std::vector<StressRow> runStress(const StressOptions& o, Renderer& renderer, const StressProgress& progress) {
+std::vector<StressRow> stressRowsFor(const StressOptions& o) {
   auto wantedName = [](const std::vector<std::string>& list, const std::string& name) {
     return list.empty() || std::find(list.begin(), list.end(), name) != list.end();
   };
@@ -180,26 +180,33 @@ std::vector<StressRow> runStress(const StressOptions& o, Renderer& renderer, con
     if (wantedName(o.methods, c.method)) configs.push_back(c);
   for (const std::string& m : o.methods) makeMethod(m);  // unknown names fail with a suggestion
   std::vector<StressRow> rows;
-  const int total = int(conditions.size() * configs.size());
-  int item = 0;
   for (const StressCondition& condition : conditions)
-    for (const StressConfig& config : configs) {
-      progress(condition.name + ": " + config.label(), ++item, total);
-      StressRow row{config, condition, std::vector<StressCell>(o.layers.size() * o.alphas.size())};
-      // Cells are tiny (a 4×4 image is one tile, one worker), so the workers take whole cells,
-      // each with a one-thread renderer of its own; a cell's bits do not depend on who renders it.
-      std::atomic<size_t> next{0};
-      auto work = [&] {
-        Renderer own(RendererOptions{1, renderer.options().tileSize});
-        for (size_t i; (i = next.fetch_add(1)) < row.cells.size();)
-          row.cells[i] = stressCell(config, condition, o.layers[i / o.alphas.size()], o.alphas[i % o.alphas.size()], o.size, own);
-      };
-      std::vector<std::thread> workers;
-      for (int t = 1; t < renderer.threads(); ++t) workers.emplace_back(work);
-      work();
-      for (std::thread& w : workers) w.join();
-      rows.push_back(std::move(row));
-    }
+    for (const StressConfig& config : configs) rows.push_back({config, condition, {}});
+  return rows;
+}
+
+void renderStressRow(StressRow& row, const StressOptions& o, Renderer& renderer) {
+  row.cells.assign(o.layers.size() * o.alphas.size(), StressCell{});
+  // Cells are tiny (a 4×4 image is one tile, one worker), so the workers take whole cells,
+  // each with a one-thread renderer of its own; a cell's bits do not depend on who renders it.
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    Renderer own(RendererOptions{1, renderer.options().tileSize});
+    for (size_t i; (i = next.fetch_add(1)) < row.cells.size();)
+      row.cells[i] = stressCell(row.config, row.condition, o.layers[i / o.alphas.size()], o.alphas[i % o.alphas.size()], o.size, own);
+  };
+  std::vector<std::thread> workers;
+  for (int t = 1; t < renderer.threads(); ++t) workers.emplace_back(work);
+  work();
+  for (std::thread& w : workers) w.join();
+}
+
+std::vector<StressRow> runStress(const StressOptions& o, Renderer& renderer, const StressProgress& progress) {
+  std::vector<StressRow> rows = stressRowsFor(o);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    progress(rows[i].condition.name + ": " + rows[i].config.label(), int(i) + 1, int(rows.size()));
+    renderStressRow(rows[i], o, renderer);
+  }
   return rows;
 }
 

@@ -77,6 +77,11 @@ struct StressOptions {
 using StressProgress = std::function<void(const std::string&, int, int)>;
 
 std::vector<StressRow> runStress(const StressOptions& options, Renderer& renderer, const StressProgress& progress);
+// The atlas's rows for the options, in runStress's order (conditions, then configurations), without
+// their cells; an unknown condition or method fails here.
+std::vector<StressRow> stressRowsFor(const StressOptions& options);
+// Renders the cells of one of them.
+void renderStressRow(StressRow& row, const StressOptions& options, Renderer& renderer);
 
 // Renders one cell (exposed for the tests).
 StressCell stressCell(const StressConfig& config, const StressCondition& condition, int layers, float alpha, int size,

@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
+#include "oitref/oit/image_io.h"
 #include "oitref/oit/metrics.h"
 #include "tools/html.h"
 #include "tools/number_parse.h"
@@ -89,7 +91,7 @@ std::vector<StressFinding> stressFindings(const StressRow& row) {
   return out;
 }
 
-std::string stressHtml(const std::vector<StressRow>& rows, const StressOptions& o, double seconds) {
+std::string stressHtml(const std::vector<StressRow>& rows, const StressOptions& o, double seconds, const std::string& provenance) {
   std::ostringstream h;
   h << "<!doctype html>\n<html lang=en>\n<head>\n<meta charset=utf-8>\n<title>oitref stability atlas</title>\n<style>"
     << kAtlasStyle << "</style>\n</head>\n<body>\n<h1>oitref stability atlas</h1>\n<p>Each cell is one parametric scene: n "
@@ -100,7 +102,8 @@ std::string stressHtml(const std::vector<StressRow>& rows, const StressOptions& 
        "<b>0</b> the revealage underflowed to 0 while the exact transmittance is above 0, <b>f</b> MBOIT's moment "
        "reconstruction fell back to the fragment's own layer. Hover a cell for its numbers; every number is in "
        "<a href=atlas.json>atlas.json</a> and <a href=atlas.csv>atlas.csv</a>. "
-    << rows.size() << " rows, " << fmt("%.1f", seconds) << " s.</p>\n<div class=legend><span>error ≤ 1e-6</span><div class=bar "
+    << rows.size() << " rows, " << fmt("%.1f", seconds) << " s.</p>\n"
+    << (provenance.empty() ? "" : "<p class=distributed><b>" + html::escape(provenance) + "</b></p>\n") << "<div class=legend><span>error ≤ 1e-6</span><div class=bar "
        "style=\"background:" << html::heatmapGradientCss() << "\"></div><span>≥ 1 (1e-6, 1e-5, …, 1 evenly)</span></div>\n";
   // Findings first: where each failure starts.
   h << "<h2 id=findings>Where each failure starts</h2>\n<table class=findings><tr><th>condition</th><th>method and format</th>"
@@ -168,6 +171,20 @@ std::string stressCsv(const std::vector<StressRow>& rows) {
     }
   }
   return c.str();
+}
+
+void writeStressAtlas(const std::vector<StressRow>& rows, const StressOptions& o, double seconds,
+                      const std::string& provenance, const std::string& dir) {
+  const std::filesystem::path folder(dir);
+  std::filesystem::create_directories(folder);
+  writeTextFile((folder / "atlas.json").string(), stressJson(rows, o));
+  writeTextFile((folder / "atlas.csv").string(), stressCsv(rows));
+  writeTextFile((folder / "atlas.html").string(), stressHtml(rows, o, seconds, provenance));
+  size_t failures = 0;
+  for (const StressRow& r : rows) failures += stressFindings(r).size();
+  std::printf("oitref stress: %zu rows × %zu cells, %zu failure kinds found, %.1f s\natlas: %s\n", rows.size(),
+              o.layers.size() * o.alphas.size(), failures, seconds,
+              std::filesystem::absolute(folder / "atlas.html").lexically_normal().c_str());
 }
 
 }  // namespace oitref::tools

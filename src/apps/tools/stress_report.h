@@ -18,8 +18,14 @@ struct StressFinding {
 };
 std::vector<StressFinding> stressFindings(const StressRow& row);
 
-std::string stressHtml(const std::vector<StressRow>& rows, const StressOptions& options, double seconds);
+// provenance: plan_kinds.h's jobsProvenance for an atlas run as jobs, else "".
+std::string stressHtml(const std::vector<StressRow>& rows, const StressOptions& options, double seconds,
+                       const std::string& provenance = "");
 std::string stressJson(const std::vector<StressRow>& rows, const StressOptions& options);
 std::string stressCsv(const std::vector<StressRow>& rows);
+// atlas.html, atlas.json and atlas.csv into `dir` (created if need be), and the command's summary
+// on stdout.
+void writeStressAtlas(const std::vector<StressRow>& rows, const StressOptions& options, double seconds,
+                      const std::string& provenance, const std::string& dir);
 
 }  // namespace oitref::tools

@@ -38,11 +38,7 @@ int runStudyCommand(const StudyCommandOptions& c) {
   o.memoryLimit = memoryLimitFrom(c.memoryLimit);
   if (!c.plan.empty()) {
     const Plan plan = planStudy({o, c.profile, c.memoryLimit, c.perJob}, c.plan);
-    std::printf("oitref study: planned %d jobs over %zu scenes in %s\n"
-                "run each with `oitref job %s INDEX` (INDEX 0–%d; scripts/slurm/submit.sh %s submits them to Slurm), "
-                "then `oitref collect %s` writes the report into %s\n",
-                plan.jobCount(), plan.inputs.size(), c.plan.c_str(), c.plan.c_str(), plan.jobCount() - 1, c.plan.c_str(),
-                c.plan.c_str(), studyReportFolder(plan).c_str());
+    std::fputs(plannedMessage("study", plan, "the report into " + plan.options.at("out").get<std::string>()).c_str(), stdout);
     return 0;
   }
   Renderer renderer(RendererOptions{.threads = c.threads});
@@ -71,12 +67,12 @@ void addStudyCommand(CLI::App& app, int& exitCode) {
   cmd->add_option("--heatmap-scale", o->heatmapScale, "Error drawn white in the heatmaps")->capture_default_str();
   addQuietFlag(cmd, o->quiet);
   addMemoryLimitOption(cmd, o->memoryLimit);
-  nonEmptyPath(cmd->add_option("--plan", o->plan,
+  CLI::Option* plan = nonEmptyPath(cmd->add_option("--plan", o->plan,
                                "Render nothing: write the study as jobs into this plan folder, for `oitref job` (e.g. on a "
                                "Slurm cluster: scripts/slurm/submit.sh) and `oitref collect`"));
   cmd->add_option("--configurations-per-job", o->perJob,
                   "With --plan: configurations of one scene per job (default: about 2^28 pixel-frames of work a job)")
-      ->check(CLI::Range(1, 100000));
+      ->check(CLI::Range(1, 100000))->needs(plan);
   cmd->callback([o, &exitCode] { exitCode = runReportingErrors("study", [&] { return runStudyCommand(*o); }); });
 }
 

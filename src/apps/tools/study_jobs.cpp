@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <cstdio>
 #include <stdexcept>
 
 #include "oitref/core/memory_limit.h"
 #include "oitref/core/profile.h"
 #include "oitref/oit/scene.h"
 #include "tools/number_parse.h"
+#include "tools/study_report.h"
 #include "tools/suite.h"
 
 namespace oitref::tools {
@@ -33,7 +35,7 @@ json variantJson(const StudyVariant& v) {
   return {{"method", v.method}, {"options", options}};
 }
 
-json rowJson(const StudyRow& r) {
+json studyRowJson(const StudyRow& r) {
   json runs = json::array();
   for (double ms : r.runMs) runs.push_back(exactNumber(ms));
   return {{"variant", variantJson(r.variant)}, {"ms", exactNumber(r.ms)}, {"run_ms", runs},
@@ -43,7 +45,7 @@ json rowJson(const StudyRow& r) {
           {"non_finite_pixels", r.nonFinitePixels}, {"note", r.note}, {"image", r.image}, {"heatmap", r.heatmap}};
 }
 
-StudyRow rowOf(const json& j) {
+StudyRow studyRowOf(const json& j) {
   StudyRow r;
   r.variant.method = j.at("variant").at("method").get<std::string>();
   for (const auto& [k, value] : j.at("variant").at("options").items()) r.variant.options[k] = value.get<std::string>();
@@ -63,14 +65,14 @@ StudyRow rowOf(const json& j) {
 
 // The study's options as the plan records them, and back (the profile and memory limit parsed
 // again on the node that runs the job).
-json optionsJson(const StudyPlanRequest& r) {
+json studyOptionsJson(const StudyPlanRequest& r) {
   const StudyOptions& o = r.options;
   return {{"out", fs::absolute(o.outDir).lexically_normal().string()}, {"width", o.width}, {"height", o.height},
           {"runs", o.runs}, {"heatmap_scale", exactNumber(o.heatmapScale)}, {"profile", r.profileText},
           {"memory_limit", r.memoryLimitText}, {"methods", o.methods}};
 }
 
-StudyOptions optionsOf(const Plan& plan) {
+StudyOptions studyOptionsOf(const Plan& plan) {
   const json& j = plan.options;
   StudyOptions o;
   o.outDir = j.at("out").get<std::string>();
@@ -90,28 +92,20 @@ struct StudyShare {
   size_t scene = 0;
   int first = 0, count = 0;
 };
-StudyShare shareOf(const Plan& plan, int index) {
+StudyShare studyShareOf(const Plan& plan, int index) {
   const json& j = plan.jobs.at(size_t(index));
   return {j.at("scene").get<size_t>(), j.at("first").get<int>(), j.at("count").get<int>()};
 }
 
-void requireStudy(const Plan& plan) {
-  if (plan.kind != "study") throw std::invalid_argument(plan.dir + ": a plan of kind '" + plan.kind + "', not a study");
-}
-
 }  // namespace
 
-std::string studyReportFolder(const Plan& plan) {
-  requireStudy(plan);
-  return plan.options.at("out").get<std::string>();
-}
 
 Plan planStudy(const StudyPlanRequest& r, const std::string& dir) {
   const std::vector<StudyVariant> variants = studyVariantsFor(r.options);
   const int total = int(variants.size());
   Plan plan;
   plan.dir = dir, plan.kind = "study", plan.planner = ProgramIdentity::ofThisProcess();
-  plan.options = optionsJson(r);
+  plan.options = studyOptionsJson(r);
   json list = json::array();
   for (const StudyVariant& v : variants) list.push_back(variantJson(v));
   plan.options["configurations"] = list;  // what every job checks it would render
@@ -123,23 +117,22 @@ Plan planStudy(const StudyPlanRequest& r, const std::string& dir) {
       const Scene scene = loadScene(path, r.options.memoryLimit);
       width = scene.width, height = scene.height;
     }
-    // Runs of nearly equal length: `jobs` of them, the first `total % jobs` one longer.
-    const int per = configurationsPerJob(r, width, height, total), jobs = (total + per - 1) / per;
-    for (int k = 0, first = 0; k < jobs; ++k) {
-      const int count = total / jobs + (k < total % jobs ? 1 : 0);
-      plan.jobs.push_back({{"scene", s}, {"first", first}, {"count", count}});
-      first += count;
-    }
+    for (const JobRun& run : evenRuns(total, configurationsPerJob(r, width, height, total)))
+      plan.jobs.push_back({{"scene", s}, {"first", run.first}, {"count", run.count}});
   }
   writePlan(plan);
   return plan;
 }
 
-json runStudyJob(const Plan& plan, int index, const std::string& staging, Renderer& renderer, const StudyProgress& progress) {
-  requireStudy(plan);
-  const StudyShare share = shareOf(plan, index);
+namespace {
+
+json runStudyJob(const Plan& plan, int index, const std::string& staging, Renderer& renderer, bool quiet) {
+  const StudyProgress printer = studyProgressPrinter(quiet);
+  const std::string prefix = plan.jobName(index) + " of " + std::to_string(plan.jobCount()) + ": ";
+  const StudyProgress progress = [&](const std::string& what, int i, int n) { printer(prefix + what, i, n); };
+  const StudyShare share = studyShareOf(plan, index);
   requireInputUnchanged(plan, share.scene);
-  StudyOptions o = optionsOf(plan);
+  StudyOptions o = studyOptionsOf(plan);
   const std::vector<StudyVariant> all = studyVariantsFor(o);
   json list = json::array();
   for (const StudyVariant& v : all) list.push_back(variantJson(v));
@@ -151,7 +144,7 @@ json runStudyJob(const Plan& plan, int index, const std::string& staging, Render
   o.outDir = staging;
   const StudyScene s = runStudyScene(o, o.scenes[share.scene], mine, renderer, progress, 1, share.count);
   json rows = json::array();
-  for (const StudyRow& r : s.rows) rows.push_back(rowJson(r));
+  for (const StudyRow& r : s.rows) rows.push_back(studyRowJson(r));
   json scene = {{"name", s.name}, {"width", s.width}, {"height", s.height}, {"fragments", s.fragments},
                 {"depth_complexity_max", s.depthComplexityMax}};
   if (s.hasRaycast)
@@ -161,8 +154,7 @@ json runStudyJob(const Plan& plan, int index, const std::string& staging, Render
 }
 
 StudyResult collectStudy(const Plan& plan, const std::vector<json>& results, const std::string& outDir) {
-  requireStudy(plan);
-  const StudyOptions o = optionsOf(plan);
+  const StudyOptions o = studyOptionsOf(plan);
   StudyResult result;
   result.runs = o.runs, result.heatmapScale = o.heatmapScale, result.profile = o.profile.name;
   result.jobs = plan.jobCount();
@@ -171,7 +163,7 @@ StudyResult collectStudy(const Plan& plan, const std::vector<json>& results, con
   std::vector<std::string> nodes;
   for (int i = 0; i < plan.jobCount(); ++i) {
     const json& r = results.at(size_t(i));
-    const StudyShare share = shareOf(plan, i);
+    const StudyShare share = studyShareOf(plan, i);
     StudyScene& s = result.scenes.at(share.scene);
     const json& scene = r.at("scene");
     // Every job of a scene rendered its A-buffer: the figures must agree, or frames were not
@@ -200,7 +192,7 @@ StudyResult collectStudy(const Plan& plan, const std::vector<json>& results, con
     result.totalSeconds += r.at("seconds").get<double>();
     nodes.push_back(node);
     for (const json& row : r.at("rows")) {
-      StudyRow studyRow = rowOf(row);
+      StudyRow studyRow = studyRowOf(row);
       studyRow.job = i, studyRow.node = node;
       for (const std::string& file : {studyRow.image, studyRow.heatmap}) {
         const fs::path to = fs::path(outDir) / file;
@@ -214,6 +206,24 @@ StudyResult collectStudy(const Plan& plan, const std::vector<json>& results, con
   nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
   result.nodes = nodes;
   return result;
+}
+
+int collectStudyReport(const Plan& plan, const std::vector<json>& results, const std::string& out) {
+  const std::string dir = out.empty() ? plan.options.at("out").get<std::string>() : out;
+  const StudyResult result = collectStudy(plan, results, dir);
+  writeStudyReport(result, dir);
+  std::printf("oitref collect: %zu scenes × %zu configurations from %d jobs on %zu node%s, %.1f s of jobs\nreport: %s\n",
+              result.scenes.size(), result.scenes.empty() ? size_t(0) : result.scenes[0].rows.size(), result.jobs,
+              result.nodes.size(), result.nodes.size() == 1 ? "" : "s", result.totalSeconds,
+              (fs::absolute(dir) / "index.html").lexically_normal().c_str());
+  return 0;
+}
+
+}  // namespace
+
+const PlanKind& studyPlanKind() {
+  static const PlanKind kind{"study", runStudyJob, collectStudyReport};
+  return kind;
 }
 
 }  // namespace oitref::tools

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tools/job_plan.h"
+#include "tools/plan_kinds.h"
 #include "tools/study.h"
 
 namespace oitref::tools {
@@ -25,16 +26,6 @@ struct StudyPlanRequest {
 // Writes the plan into `dir`; returns it.
 Plan planStudy(const StudyPlanRequest& request, const std::string& dir);
 
-// Runs job `index` of a study plan into `staging` (its images, under <scene>/) and returns its
-// result: its rows and the scene's figures.
-nlohmann::json runStudyJob(const Plan& plan, int index, const std::string& staging, Renderer& renderer,
-                           const StudyProgress& progress);
-
-// Puts the jobs' results (results[i] of job i, all done) together into the study's result and
-// copies their images into the plan's report folder (`outDir`).
-StudyResult collectStudy(const Plan& plan, const std::vector<nlohmann::json>& results, const std::string& outDir);
-
-// The report folder the plan names (the study's --out).
-std::string studyReportFolder(const Plan& plan);
+// Its jobs run and are collected through studyPlanKind() (plan_kinds.h).
 
 }  // namespace oitref::tools

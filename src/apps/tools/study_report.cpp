@@ -11,6 +11,7 @@
 #include "oitref/oit/image_io.h"
 #include "oitref/oit/metrics.h"
 #include "tools/html.h"
+#include "tools/plan_kinds.h"
 #include "tools/number_parse.h"
 
 namespace oitref::tools {
@@ -278,17 +279,10 @@ const ThesisMemoryRow* thesisMemoryRow(const StudyVariant& v) {
 namespace {
 
 // A study run as jobs of a plan: its times come from separate processes, maybe other nodes and
-// hours; the page says so where the figures are read.
+// hours; the page says so where the figures are read (results.json gives each row's job and node).
 std::string distributedNote(const StudyResult& result) {
   if (result.jobs == 0) return "";
-  std::string nodes;
-  for (const std::string& n : result.nodes) nodes += (nodes.empty() ? "" : ", ") + escape(n);
-  return "<p class=distributed><b>Run as " + std::to_string(result.jobs) + " jobs</b> (<code>oitref job</code>, put together by "
-         "<code>oitref collect</code>) on " + std::to_string(result.nodes.size()) + (result.nodes.size() == 1 ? " node: " : " nodes: ") +
-         nodes + (result.threads ? "" : "; the jobs had different thread counts") +
-         ". Its times come from different processes" + (result.nodes.size() > 1 ? " on different nodes" : "") +
-         ", measured at different times: compare times within a job (results.json gives each row's job and node); the "
-         "total is the sum of the jobs' times. The images and error figures are those one process would have written.</p>\n";
+  return "<p class=distributed><b>" + escape(jobsProvenance(result.jobs, result.nodes, result.threads == 0)) + "</b></p>\n";
 }
 
 }  // namespace

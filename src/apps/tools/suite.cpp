@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -76,27 +77,60 @@ std::string formatSuiteTable(const SuiteScene& s) {
   return out.str();
 }
 
+std::vector<ReferenceEntry> renderReferenceScene(const std::string& path, Renderer& renderer, const std::string& dir, bool write) {
+  Scene scene = loadScene(path);
+  scene.width = kReferenceWidth, scene.height = kReferenceHeight;
+  const SceneFrames frames(std::move(scene), renderer);
+  std::vector<ReferenceEntry> entries;
+  for (const MethodInfo& info : allMethods()) {
+    const FrameResult frame = frames.render(*makeMethod(info.name));
+    entries.push_back({sceneName(path), info.name, frameHash(frame)});
+    if (write) writeImage((fs::path(dir) / (sceneName(path) + "_" + info.name + ".png")).string(), frame.final8);
+  }
+  return entries;
+}
+
+void writeReferenceManifest(const std::string& dir, const std::vector<ReferenceEntry>& entries) {
+  std::ostringstream manifest;
+  manifest << "# scene method sha256(final RGBA8 bits, then RGBA32F bits), " << kReferenceWidth << "x" << kReferenceHeight
+           << ", profile exact. Regenerate with `oitref reference --write` only on purpose.\n";
+  for (const ReferenceEntry& e : entries) manifest << e.scene << " " << e.method << " " << e.hash << "\n";
+  writeTextFile((fs::path(dir) / "manifest.txt").string(), manifest.str());
+}
+
 std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Renderer& renderer, const std::string& dir,
                                              bool write) {
   std::vector<ReferenceEntry> entries;
-  for (const std::string& path : sceneFiles(scenesDir)) {
-    Scene scene = loadScene(path);
-    scene.width = kReferenceWidth, scene.height = kReferenceHeight;
-    const SceneFrames frames(std::move(scene), renderer);
-    for (const MethodInfo& info : allMethods()) {
-      const FrameResult frame = frames.render(*makeMethod(info.name));
-      entries.push_back({sceneName(path), info.name, frameHash(frame)});
-      if (write) writeImage((fs::path(dir) / (sceneName(path) + "_" + info.name + ".png")).string(), frame.final8);
-    }
-  }
-  if (write) {
-    std::ostringstream manifest;
-    manifest << "# scene method sha256(final RGBA8 bits, then RGBA32F bits), " << kReferenceWidth << "x" << kReferenceHeight
-             << ", profile exact. Regenerate with `oitref reference --write` only on purpose.\n";
-    for (const ReferenceEntry& e : entries) manifest << e.scene << " " << e.method << " " << e.hash << "\n";
-    writeTextFile((fs::path(dir) / "manifest.txt").string(), manifest.str());
-  }
+  for (const std::string& path : sceneFiles(scenesDir))
+    for (ReferenceEntry& e : renderReferenceScene(path, renderer, dir, write)) entries.push_back(std::move(e));
+  if (write) writeReferenceManifest(dir, entries);
   return entries;
+}
+
+int reportReferences(const std::vector<ReferenceEntry>& entries, const std::string& dir, bool write) {
+  // Matched by (scene, method), so a new method or scene shows up as new images while the
+  // existing ones are still compared hash for hash.
+  int bad = 0, fresh = 0, same = 0;
+  std::map<std::pair<std::string, std::string>, std::string> expected;
+  if (!write)
+    for (const ReferenceEntry& m : readManifest(dir + "/manifest.txt")) expected[{m.scene, m.method}] = m.hash;
+  for (const ReferenceEntry& e : entries) {
+    if (write) continue;
+    const auto it = expected.find({e.scene, e.method});
+    if (it == expected.end()) {
+      std::printf("new (not in the manifest): %s %s\n", e.scene.c_str(), e.method.c_str()), ++fresh;
+      continue;
+    }
+    if (it->second != e.hash) std::printf("differs: %s %s\n", e.scene.c_str(), e.method.c_str()), ++bad;
+    else ++same;
+    expected.erase(it);
+  }
+  for (const auto& [key, hash] : expected)
+    std::printf("missing (in the manifest, not rendered): %s %s\n", key.first.c_str(), key.second.c_str()), ++bad;
+  if (!write && (bad || fresh)) std::printf("%d differ or are missing, %d are new, %d identical\n", bad, fresh, same);
+  bad += fresh;
+  std::printf("%s %zu reference images\n", write ? "wrote" : (bad ? "FAILED:" : "identical:"), entries.size());
+  return bad ? 1 : 0;
 }
 
 std::vector<ReferenceEntry> readManifest(const std::string& path) {

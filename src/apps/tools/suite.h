@@ -46,5 +46,13 @@ struct ReferenceEntry {
 std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Renderer& renderer, const std::string& dir,
                                              bool write);
 std::vector<ReferenceEntry> readManifest(const std::string& path);
+// One scene's part of the golden set (its images into `dir` when `write`).
+std::vector<ReferenceEntry> renderReferenceScene(const std::string& scenePath, Renderer& renderer, const std::string& dir,
+                                                 bool write);
+void writeReferenceManifest(const std::string& dir, const std::vector<ReferenceEntry>& entries);
+// What `oitref reference` prints about the rendered entries: with `write`, that they were
+// written; else each that differs from, is missing in or is new to dir/manifest.txt. Returns the
+// exit status (1: any difference).
+int reportReferences(const std::vector<ReferenceEntry>& entries, const std::string& dir, bool write);
 
 }  // namespace oitref::tools

@@ -1,24 +1,29 @@
 // `oitref suite` (every scene × method, with tables) and `oitref reference` (the golden set).
-#include <map>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 #include <memory>
-#include <sstream>
 
 #include "tools/commands.h"
 #include "tools/number_parse.h"
 #include "tools/suite.h"
+#include "tools/suite_jobs.h"
 
 namespace oitref::tools {
 namespace {
 
 struct SuiteOptions {
   std::vector<std::string> scenes;
-  std::string out, size, profile = "exact", dir = "reference", scenesDir = "scenes", memoryLimit;
+  std::string out, size, profile = "exact", dir = "reference", scenesDir = "scenes", memoryLimit, plan;
   int threads = 0;
   bool write = false;
 };
+
+CLI::Option* addPlanOption(CLI::App* cmd, std::string& plan, const char* what) {
+  return nonEmptyPath(cmd->add_option("--plan", plan,
+                                      std::string("Render nothing: write ") + what +
+                                          " as jobs (one per scene) into this plan folder, for `oitref job` (e.g. on Slurm: "
+                                          "scripts/slurm/submit.sh) and `oitref collect`"));
+}
 
 }  // namespace
 
@@ -31,21 +36,28 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   addThreadsOption(suite, o->threads);
   addProfileOption(suite, o->profile);
   addMemoryLimitOption(suite, o->memoryLimit);
+  addPlanOption(suite, o->plan, "the suite");
   suite->callback([o, &exitCode] {
     exitCode = runReportingErrors("suite", [&] {
-      std::vector<std::string> scenes = o->scenes.empty() ? sceneFiles("scenes") : o->scenes;
-      int w = 0, h = 0;
-      if (!o->size.empty()) parseSize(o->size, "--size", w, h);
-      const uint64_t limit = memoryLimitFrom(o->memoryLimit);
-      Renderer renderer(RendererOptions{.threads = o->threads});
+      SuiteRequest r;
+      r.scenes = o->scenes.empty() ? sceneFiles("scenes") : o->scenes;
+      if (!o->size.empty()) parseSize(o->size, "--size", r.width, r.height);
+      r.out = o->out, r.profileText = o->profile, r.memoryLimitText = o->memoryLimit;
       const Profile profile = parseProfile(o->profile);
-      std::printf("oitref suite: %zu scenes, threads %d, profile %s\n\n", scenes.size(), renderer.threads(), profile.name.c_str());
-      for (const std::string& path : scenes) {
-        std::fputs(formatSuiteTable(runSuiteScene(path, renderer, profile, w, h, o->out, limit)).c_str(), stdout);
+      const uint64_t limit = memoryLimitFrom(o->memoryLimit);
+      if (!o->plan.empty()) {
+        const Plan plan = planSuite(r, o->plan);
+        std::fputs(plannedMessage("suite", plan, "the tables" + (r.out.empty() ? std::string() : " and the images into " + r.out)).c_str(), stdout);
+        return 0;
+      }
+      Renderer renderer(RendererOptions{.threads = o->threads});
+      std::printf("oitref suite: %zu scenes, threads %d, profile %s\n\n", r.scenes.size(), renderer.threads(), profile.name.c_str());
+      for (const std::string& path : r.scenes) {
+        std::fputs(formatSuiteTable(runSuiteScene(path, renderer, profile, r.width, r.height, r.out, limit)).c_str(), stdout);
         std::fputs("\n", stdout);
         std::fflush(stdout);
       }
-      if (!o->out.empty()) std::printf("images in %s/<scene>/<method>.png|.exr\n", o->out.c_str());
+      if (!r.out.empty()) std::printf("images in %s/<scene>/<method>.png|.exr\n", r.out.c_str());
       return 0;
     });
   });
@@ -55,35 +67,18 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   ref->add_option("--scenes", o->scenesDir, "Scene folder")->capture_default_str();
   addThreadsOption(ref, o->threads);
   ref->add_flag("--write", o->write, "Regenerate the images and the manifest (only on purpose)");
+  addPlanOption(ref, o->plan, "the check (or with --write, the regeneration)");
   ref->callback([o, &exitCode] {
     exitCode = runReportingErrors("reference", [&] {
+      if (!o->plan.empty()) {
+        const Plan plan = planReference(o->scenesDir, o->dir, o->write, o->plan);
+        std::fputs(plannedMessage("reference", plan, o->write ? "the images and manifest into " + o->dir : "the check against " + o->dir).c_str(), stdout);
+        return 0;
+      }
       Renderer renderer(RendererOptions{.threads = o->threads});
       if (o->write) std::filesystem::create_directories(o->dir);
-      const auto manifest = o->write ? std::vector<ReferenceEntry>{} : readManifest(o->dir + "/manifest.txt");
-      const auto entries = renderReferences(o->scenesDir, renderer, o->dir, o->write);
-      // Matched by (scene, method), so a new method or scene shows up as new images while the
-      // existing ones are still compared hash for hash.
-      int bad = 0, fresh = 0, same = 0;
-      std::map<std::pair<std::string, std::string>, std::string> expected;
-      for (const auto& m : manifest) expected[{m.scene, m.method}] = m.hash;
-      for (const auto& e : entries) {
-        const auto it = expected.find({e.scene, e.method});
-        if (o->write) continue;
-        if (it == expected.end()) {
-          std::printf("new (not in the manifest): %s %s\n", e.scene.c_str(), e.method.c_str()), ++fresh;
-          continue;
-        }
-        if (it->second != e.hash) std::printf("differs: %s %s\n", e.scene.c_str(), e.method.c_str()), ++bad;
-        else ++same;
-        expected.erase(it);
-      }
-      for (const auto& [key, hash] : expected)
-        if (!o->write) std::printf("missing (in the manifest, not rendered): %s %s\n", key.first.c_str(), key.second.c_str()), ++bad;
-      if (!o->write && (bad || fresh))
-        std::printf("%d differ or are missing, %d are new, %d identical\n", bad, fresh, same);
-      bad += fresh;
-      std::printf("%s %zu reference images\n", o->write ? "wrote" : (bad ? "FAILED:" : "identical:"), entries.size());
-      return bad ? 1 : 0;
+      if (!o->write) readManifest(o->dir + "/manifest.txt");  // an unreadable manifest fails before rendering
+      return reportReferences(renderReferences(o->scenesDir, renderer, o->dir, o->write), o->dir, o->write);
     });
   });
 }
