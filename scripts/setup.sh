@@ -13,7 +13,8 @@ packages=(build-essential cmake ninja-build libglm-dev libembree-dev libtbb-dev
           pybind11-dev python3-dev python3-numpy python3-pytest      # import oitref, and its tests
           libegl-dev libgl-dev libegl1 libegl-mesa0 libgl1-mesa-dri  # glcheck: Mesa's llvmpipe
           clang libclang-rt-14-dev                                   # CI: sanitizers, libFuzzer
-          chromium fonts-dejavu-core)                                # tests: the study report in a real browser
+          chromium fonts-dejavu-core                                 # tests: the study report in a real browser
+          slurm-wlm munge)                                           # tests: a study through a one-node Slurm
 
 missing=()
 for p in "${packages[@]}"; do

@@ -15,7 +15,8 @@ install_slurm_if_missing() {
   fi
   echo "installing Debian's slurm-wlm and munge"
   export DEBIAN_FRONTEND=noninteractive
-  apt-get install -y -q slurm-wlm munge >/dev/null || { apt-get update -q >/dev/null && apt-get install -y -q slurm-wlm munge >/dev/null; }
+  apt-get install -y -q --no-install-recommends slurm-wlm munge >/dev/null ||
+    { apt-get update -q >/dev/null && apt-get install -y -q --no-install-recommends slurm-wlm munge >/dev/null; }
 }
 
 free_port() {
