@@ -1,5 +1,6 @@
 #include "tools/plan_kinds.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace oitref::tools {
@@ -8,6 +9,19 @@ const PlanKind& planKindOf(const Plan& plan) {
   for (const PlanKind* kind : {&studyPlanKind(), &stressPlanKind(), &suitePlanKind(), &referencePlanKind()})
     if (plan.kind == kind->name) return *kind;
   throw std::invalid_argument(plan.dir + ": a plan of kind '" + plan.kind + "', which this oitref does not know");
+}
+
+JobsRan jobsRan(const std::vector<nlohmann::json>& results) {
+  JobsRan ran;
+  for (size_t i = 0; i < results.size(); ++i) {
+    const int threads = results[i].at("threads").get<int>();
+    ran.threads = i == 0 || ran.threads == threads ? threads : 0;
+    ran.seconds += results[i].at("seconds").get<double>();
+    ran.nodes.push_back(results[i].at("node").get<std::string>());
+  }
+  std::sort(ran.nodes.begin(), ran.nodes.end());
+  ran.nodes.erase(std::unique(ran.nodes.begin(), ran.nodes.end()), ran.nodes.end());
+  return ran;
 }
 
 std::string jobsProvenance(int jobs, const std::vector<std::string>& nodes, bool threadsDiffer) {

@@ -29,6 +29,15 @@ const PlanKind& referencePlanKind();  // suite_jobs.cpp
 // The plan's kind; an error naming the folder where this oitref knows no such kind.
 const PlanKind& planKindOf(const Plan& plan);
 
+// Where and how the jobs ran, from their results: the nodes (sorted, each once), the jobs' thread
+// count (0 where they differ) and the sum of their times.
+struct JobsRan {
+  std::vector<std::string> nodes;
+  int threads = 0;
+  double seconds = 0;
+};
+JobsRan jobsRan(const std::vector<nlohmann::json>& results);
+
 // One sentence for a report that was run as jobs: how many, on which nodes, and that its times
 // come from separate processes (and nodes); "" for jobs == 0 (one process).
 std::string jobsProvenance(int jobs, const std::vector<std::string>& nodes, bool threadsDiffer);

@@ -75,9 +75,6 @@ json runStressJob(const Plan& plan, int index, const std::string&, Renderer& ren
 int collectStress(const Plan& plan, const std::vector<json>& results, const std::string& out) {
   const StressOptions o = stressOptionsOf(plan);
   std::vector<StressRow> rows = stressRowsOf(plan, o);
-  double seconds = 0;
-  std::vector<std::string> nodes;
-  bool threadsDiffer = false;
   for (int i = 0; i < plan.jobCount(); ++i) {
     const json& r = results.at(size_t(i));
     const StressRowRun run = stressRunOf(plan, i, rows.size());
@@ -101,13 +98,9 @@ int collectStress(const Plan& plan, const std::vector<json>& results, const std:
       if (row.cells.size() != o.layers.size() * o.alphas.size())
         throw std::runtime_error(plan.dir + ": " + plan.jobName(i) + " has the wrong number of cells");
     }
-    seconds += r.at("seconds").get<double>();
-    nodes.push_back(r.at("node").get<std::string>());
-    threadsDiffer = threadsDiffer || r.at("threads") != results[0].at("threads");
   }
-  std::sort(nodes.begin(), nodes.end());
-  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-  writeStressAtlas(rows, o, seconds, jobsProvenance(plan.jobCount(), nodes, threadsDiffer),
+  const JobsRan ran = jobsRan(results);
+  writeStressAtlas(rows, o, ran.seconds, jobsProvenance(plan.jobCount(), ran.nodes, ran.threads == 0),
                    out.empty() ? plan.options.at("out").get<std::string>() : out);
   return 0;
 }

@@ -160,7 +160,8 @@ StudyResult collectStudy(const Plan& plan, const std::vector<json>& results, con
   result.jobs = plan.jobCount();
   result.scenes.resize(plan.inputs.size());
   std::vector<int> sceneJobs(plan.inputs.size(), 0);
-  std::vector<std::string> nodes;
+  const JobsRan ran = jobsRan(results);
+  result.threads = ran.threads, result.totalSeconds = ran.seconds, result.nodes = ran.nodes;
   for (int i = 0; i < plan.jobCount(); ++i) {
     const json& r = results.at(size_t(i));
     const StudyShare share = studyShareOf(plan, i);
@@ -187,10 +188,6 @@ StudyResult collectStudy(const Plan& plan, const std::vector<json>& results, con
       s.raycastShareWithin = exactNumberOf(rc.at("share_within")), s.hasRaycast = true;
     }
     const std::string node = r.at("node").get<std::string>();
-    const int threads = r.at("threads").get<int>();
-    result.threads = i == 0 || result.threads == threads ? threads : 0;
-    result.totalSeconds += r.at("seconds").get<double>();
-    nodes.push_back(node);
     for (const json& row : r.at("rows")) {
       StudyRow studyRow = studyRowOf(row);
       studyRow.job = i, studyRow.node = node;
@@ -202,9 +199,6 @@ StudyResult collectStudy(const Plan& plan, const std::vector<json>& results, con
       s.rows.push_back(std::move(studyRow));
     }
   }
-  std::sort(nodes.begin(), nodes.end());
-  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-  result.nodes = nodes;
   return result;
 }
 

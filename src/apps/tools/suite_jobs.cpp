@@ -34,19 +34,6 @@ size_t sceneOf(const Plan& plan, int index) {
   return scene;
 }
 
-// The nodes that ran the jobs, sorted, each once; whether their thread counts differ.
-std::vector<std::string> nodesOf(const std::vector<json>& results, bool& threadsDiffer) {
-  std::vector<std::string> nodes;
-  threadsDiffer = false;
-  for (const json& r : results) {
-    nodes.push_back(r.at("node").get<std::string>());
-    threadsDiffer = threadsDiffer || r.at("threads") != results.front().at("threads");
-  }
-  std::sort(nodes.begin(), nodes.end());
-  nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-  return nodes;
-}
-
 // Copies a job's files (its staging folder's content but result.json) into `to`.
 void copyJobFiles(const Plan& plan, int index, const std::string& to) {
   const fs::path from = plan.resultDir(index);
@@ -76,12 +63,11 @@ json runSuiteJob(const Plan& plan, int index, const std::string& staging, Render
 
 int collectSuite(const Plan& plan, const std::vector<json>& results, const std::string& outOverride) {
   const std::string out = outOverride.empty() ? plan.options.at("out").get<std::string>() : outOverride;
-  bool threadsDiffer = false;
-  const std::vector<std::string> nodes = nodesOf(results, threadsDiffer);
+  const JobsRan ran = jobsRan(results);
   std::printf("oitref suite: %zu scenes, threads %s, profile %s\n%s\n\n", plan.inputs.size(),
-              threadsDiffer ? "differing" : results.front().at("threads").dump().c_str(),
+              ran.threads ? std::to_string(ran.threads).c_str() : "differing",
               parseProfile(plan.options.at("profile").get<std::string>()).name.c_str(),
-              jobsProvenance(plan.jobCount(), nodes, threadsDiffer).c_str());
+              jobsProvenance(plan.jobCount(), ran.nodes, ran.threads == 0).c_str());
   for (int i = 0; i < plan.jobCount(); ++i) {
     const json& r = results[size_t(i)];
     SuiteScene s;
