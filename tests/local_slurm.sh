@@ -1,6 +1,7 @@
 # A one-node Slurm cluster on this machine, for tests (source this file): munged, slurmctld and
 # slurmd with a minimal configuration in a folder of their own (localhost only, two free ports,
-# no accounting, no cgroups), and everything stopped and removed again by stop_local_slurm.
+# no accounting, no cgroups), and everything stopped and removed again by stop_local_slurm (or,
+# if the test is killed before it can call it, by a watchdog).
 #   start_local_slurm DIR   starts it; exports SLURM_CONF; waits (bounded) for the node to be idle
 #   stop_local_slurm        cancels what is left, stops the daemons, removes DIR
 
@@ -69,6 +70,15 @@ CONF
   export SLURM_CONF=$d/slurm.conf
   slurmctld -f "$SLURM_CONF"
   slurmd -f "$SLURM_CONF"
+  # Whatever ends the test — an error, a signal, even SIGKILL from a timeout — a watchdog outside
+  # its process group stops the daemons and removes the folder once the test's shell is gone.
+  local owner=$$
+  setsid bash -c '
+    while kill -0 "$1" 2>/dev/null; do sleep 1; done
+    for p in slurmd slurmctld munged; do [ -f "$2/$p.pid" ] && kill "$(cat "$2/$p.pid")" 2>/dev/null; done
+    sleep 2
+    for p in slurmd slurmctld munged; do [ -f "$2/$p.pid" ] && kill -9 "$(cat "$2/$p.pid")" 2>/dev/null; done
+    rm -rf "$2"' watchdog "$owner" "$d" > /dev/null 2>&1 < /dev/null &
   local i
   for i in $(seq 1 60); do
     if sinfo -h -o %t 2>/dev/null | grep -qx idle; then
