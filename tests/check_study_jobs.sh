@@ -81,7 +81,7 @@ suite=(scenes/glass.json scenes/veils.json --size 48x27)
 "$oitref" suite "${suite[@]}" --out "$work/suite-local" > "$work/suite-local.txt"
 "$oitref" suite "${suite[@]}" --out "$work/suite" --plan "$work/plan-u" > /dev/null
 "$oitref" collect "$work/plan-u" --resume --quiet > "$work/suite.txt"
-untimed() { grep -v '^Run as' "$1" | sed -E 's/^(  [a-z0-9]+ +)[0-9.]+/\1/; s|images in .*||'; }
+untimed() { grep -v '^Run as' "$1" | sed -E 's/^(  [a-z0-9]+) +[0-9.]+/\1/; s|images in .*||'; }
 diff <(untimed "$work/suite-local.txt") <(untimed "$work/suite.txt") || fail "the collected suite's tables differ beyond their times"
 diff -r "$work/suite-local" "$work/suite" || fail "the collected suite's images differ"
 "$oitref" reference --plan "$work/plan-r" > /dev/null

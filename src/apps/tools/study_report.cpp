@@ -171,11 +171,16 @@ std::string sceneSection(const StudyScene& s, double heatmapScale, std::map<std:
   return o.str();
 }
 
+// "2 threads", or for jobs with different thread counts, that they differ.
+std::string threadsText(const StudyResult& result) {
+  return result.threads > 0 ? std::to_string(result.threads) + " threads" : std::string("threads differing between jobs");
+}
+
 // Timing like the thesis's Table 3.1: variants down, scenes across.
 std::string timingTable(const StudyResult& result) {
   std::ostringstream o;
-  o << "<h2 id=timing>Timing</h2>\n<p>Median frame time in ms (like Table 3.1 of Rožek's thesis), " << result.threads
-    << " threads, median of " << result.runs << " runs after one warm-up (a warm-up of 100 ms or more counts as the first run).</p>\n<table>\n<tr><th>method</th><th>variant</th>";
+  o << "<h2 id=timing>Timing</h2>\n<p>Median frame time in ms (like Table 3.1 of Rožek's thesis), " << threadsText(result)
+    << ", median of " << result.runs << " runs after one warm-up (a warm-up of 100 ms or more counts as the first run).</p>\n<table>\n<tr><th>method</th><th>variant</th>";
   for (const StudyScene& s : result.scenes) o << "<th>" << escape(s.name) << "</th>";
   o << "</tr>\n";
   if (result.scenes.empty()) return o.str() + "</table>\n";
@@ -292,8 +297,8 @@ std::string studyHtml(const StudyResult& result) {
   std::ostringstream o;
   o << "<!doctype html>\n<html lang=en>\n<head>\n<meta charset=utf-8>\n<title>oitref study</title>\n<style>" << kStudyStyle
     << "</style>\n</head>\n<body>\n<h1>oitref study</h1>\n<p>" << result.scenes.size() << " scenes, "
-    << (result.scenes.empty() ? 0 : result.scenes[0].rows.size()) << " configurations each, " << result.threads
-    << " threads, each time the median of " << result.runs << " runs after one warm-up (a warm-up of 100 ms or more counts as the first run; every run bit-identical), "
+    << (result.scenes.empty() ? 0 : result.scenes[0].rows.size()) << " configurations each, " << threadsText(result)
+    << ", each time the median of " << result.runs << " runs after one warm-up (a warm-up of 100 ms or more counts as the first run; every run bit-identical), "
     << "profile " << escape(result.profile) << "; " << fmt("%.1f", result.totalSeconds)
     << " s in all. Errors are against the A-buffer: RMSE, PSNR and max over RGB of the RGBA32F result, ꟻLIP (LDR, "
        "Andersson et al. 2020, 67 pixels per degree) of the same result as a display shows it (clamped to [0, 1], "
