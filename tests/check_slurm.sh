@@ -33,9 +33,11 @@ wait_for_jobs() {
     fi
   done
 }
-submit() {  # submit.sh's "array=… collect=…" line into $array and $collect
+submit() {  # submit.sh's output into $submitted, its "array=… collect=…" line into $array and $collect
   local line
-  line=$(OITREF="$oitref" OITREF_CPUS_PER_TASK=1 bash scripts/slurm/submit.sh "$@" | tee /dev/stderr | grep '^array=')
+  submitted=$(OITREF="$oitref" OITREF_CPUS_PER_TASK=1 bash scripts/slurm/submit.sh "$@")
+  echo "$submitted"
+  line=$(echo "$submitted" | grep '^array=')
   array=$(echo "$line" | sed 's/array=\([0-9]*\).*/\1/')
   collect=$(echo "$line" | sed 's/.*collect=\([0-9]*\)/\1/')
 }
@@ -57,6 +59,7 @@ scancel "${array}_3"
 scontrol release "$array" "$collect" 2>/dev/null || scontrol release "$array"
 wait_for_jobs "$array,$collect" 600
 [ ! -e "$work/report2/results.json" ] || { echo "collect ran although task 3 was cancelled"; exit 1; }
+[ ! -e "$work/plan2/logs/job-3.out" ] || { echo "the cancelled task 3 ran"; exit 1; }
 status=0
 "$oitref" collect "$work/plan2" > "$work/collect2.txt" 2>&1 || status=$?
 cat "$work/collect2.txt"
@@ -65,6 +68,7 @@ grep -q "job 3: missing" "$work/collect2.txt" || { echo "collect did not name jo
 [ "$("$oitref" collect "$work/plan2" --missing)" = 3 ] || { echo "--missing is not '3'"; exit 1; }
 submit "$work/plan2"
 wait_for_jobs "$array,$collect" 600
-[ "$(ls "$work/plan2/logs" | grep -c '^job-')" = 12 ] || { echo "the re-submission ran more than the cancelled task"; ls "$work/plan2/logs"; exit 1; }
+echo "$submitted" | grep -q "^submitted jobs 3 of " || { echo "the re-submission was not of task 3 alone"; exit 1; }
+[ "$(squeue -h -o %i)" = "" ] && [ -f "$work/plan2/logs/job-3.out" ] || { echo "task 3 did not run again"; exit 1; }
 python3 tests/compare_study.py "$work/local" "$work/report2"
 echo "Slurm: both studies equal the single-machine study"
