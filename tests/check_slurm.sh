@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A study through a real Slurm (ctest label `slurm`): a one-node cluster on this machine
 # (local_slurm.sh; Debian's slurm-wlm and munge installed if missing), a study of two built-in
-# scenes at a small size planned as 12 jobs, submitted with scripts/slurm/submit.sh as a job
+# scenes at a small size planned as 6 jobs, submitted with scripts/slurm/submit.sh as a job
 # array, collected by Slurm after it; the report must be the single-machine study's (identical
 # image bits and error figures: compare_study.py). Then a second plan whose task 3 is cancelled
 # (scancel): the collect job never runs, `oitref collect` names job 3, and submitting again
@@ -43,17 +43,17 @@ submit() {  # submit.sh's output into $submitted, its "array=… collect=…" li
 }
 
 echo "== a study as a Slurm job array"
-"$oitref" study "${study[@]}" --out "$work/report" --plan "$work/plan" --configurations-per-job 12
+"$oitref" study "${study[@]}" --out "$work/report" --plan "$work/plan" --configurations-per-job 24
 start=$(date +%s%N)
 submit "$work/plan"
 wait_for_jobs "$array,$collect" 600
-echo "Slurm array of 12 tasks (1 CPU each, $(nproc) CPUs) and collect: $(( ($(date +%s%N) - start) / 1000000 )) ms"
+echo "Slurm array of 6 tasks (1 CPU each, $(nproc) CPUs) and collect: $(( ($(date +%s%N) - start) / 1000000 )) ms"
 cat "$work/plan/logs/collect-$collect.out"
 python3 tests/compare_study.py "$work/local" "$work/report"
-grep -q "Run as 12 jobs" "$work/report/index.html" || { echo "the report does not say it was run as jobs"; exit 1; }
+grep -q "Run as 6 jobs" "$work/report/index.html" || { echo "the report does not say it was run as jobs"; exit 1; }
 
 echo "== a cancelled task: named by collect, and submitted again alone"
-"$oitref" study "${study[@]}" --out "$work/report2" --plan "$work/plan2" --configurations-per-job 12
+"$oitref" study "${study[@]}" --out "$work/report2" --plan "$work/plan2" --configurations-per-job 24
 submit "$work/plan2" --hold
 scancel "${array}_3"
 scontrol release "$array" "$collect" 2>/dev/null || scontrol release "$array"
