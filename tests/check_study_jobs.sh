@@ -49,6 +49,9 @@ cp -r scenes "$work/scenes"
 "$oitref" study "$work/scenes/glass.json" --size 64x36 --runs 1 --out "$work/report-f" --plan "$work/plan-f" > /dev/null
 echo " " >> "$work/scenes/glass.json"
 expect 2 "job 0 failed: .*glass.json (or a file it names) changed since the plan was made" "$oitref" job "$work/plan-f" 0
+"$oitref" study "$work/scenes/atrium.json" --size 32x18 --runs 1 --out "$work/report-m" --plan "$work/plan-m" > /dev/null
+echo "# changed" >> "$work/scenes/meshes/atrium/pane.mtl"
+expect 2 "atrium.json (or a file it names) changed since the plan was made" "$oitref" job "$work/plan-m" 0
 [ -f "$work/plan-f/jobs/0000.failed" ] || fail "a failed job left no record"
 [ ! -e "$work/plan-f/jobs/0000" ] || fail "a failed job left a result folder"
 expect 2 "job 0: failed: .*changed since the plan was made; plan again (on " "$oitref" collect "$work/plan-f"

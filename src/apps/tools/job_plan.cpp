@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -85,6 +86,27 @@ std::string idOf(const Plan& p) {
   return hash.hex();
 }
 
+// The material libraries an OBJ file names (`mtllib a.mtl b.mtl`, relative to its folder) that
+// exist: their materials decide its textures and colours. None for other formats.
+std::vector<std::string> objMaterialLibraries(const std::string& path) {
+  std::vector<std::string> out;
+  std::string extension = fs::path(path).extension().string();
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".obj") return out;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string keyword, name;
+    if (!(words >> keyword) || keyword != "mtllib") continue;
+    while (words >> name) {
+      const fs::path library = (fs::path(path).parent_path() / name).lexically_normal();
+      if (fs::is_regular_file(library)) out.push_back(library.string());
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 ProgramIdentity ProgramIdentity::ofThisProcess() {
@@ -102,7 +124,10 @@ std::string sceneInputsSha256(const std::string& scenePath) {
   const Scene scene = loadScene(scenePath);
   std::set<std::string> named;  // each file once, in a fixed order
   for (const SceneObject& o : scene.objects) {
-    if (!o.filePath.empty()) named.insert(o.filePath);
+    if (!o.filePath.empty()) {
+      named.insert(o.filePath);
+      for (const std::string& library : objMaterialLibraries(o.filePath)) named.insert(library);
+    }
     if (!o.textureFile.empty() && fs::is_regular_file(o.textureFile)) named.insert(o.textureFile);
   }
   for (const std::string& path : named) {

@@ -30,7 +30,8 @@ struct ProgramIdentity {
   bool operator==(const ProgramIdentity&) const = default;
 };
 
-// An input file (a scene) and the SHA-256 of it and of every file it names (meshes, textures).
+// An input file (a scene) and the SHA-256 of it and of every file it names (meshes, the material
+// libraries of OBJ meshes, textures).
 struct PlanInput {
   std::string path, sha256;
 };
