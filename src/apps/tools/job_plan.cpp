@@ -41,6 +41,14 @@ void hashFile(util::Sha256& hash, const std::string& path) {
   }
 }
 
+// A whole file's bytes ("" when it cannot be read: the callers check existence first).
+std::string fileText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 std::string fileSha256(const std::string& path) {
   util::Sha256 hash;
   hashFile(hash, path);
@@ -164,13 +172,11 @@ Plan readPlan(const std::string& dir) {
   if (!fs::is_directory(dir)) throw std::invalid_argument(dir + ": no such plan folder");
   if (!fs::is_regular_file(manifest))
     throw std::invalid_argument(dir + ": not an oitref plan folder (no plan.json; `oitref study … --plan " + dir + "` makes one)");
-  std::ifstream in(manifest, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
+  const std::string text = fileText(manifest);
   Plan p;
   p.dir = dir;
   try {
-    const json j = json::parse(text.str());
+    const json j = json::parse(text);
     if (j.at("oitref_plan").get<int>() != kPlanFormat)
       throw std::invalid_argument("field 'oitref_plan': layout " + j.at("oitref_plan").dump() + ", this oitref reads " +
                                   std::to_string(kPlanFormat));
@@ -247,12 +253,9 @@ JobState readJobState(const Plan& p, int index) {
   const fs::path dir = p.resultDir(index), resultFile = dir / "result.json", failed = dir.string() + ".failed";
   if (fs::is_directory(dir)) {
     s.kind = JobState::Damaged;
-    std::ifstream in(resultFile, std::ios::binary);
-    if (!in) return s.error = resultFile.string() + " is missing", s;
-    std::stringstream text;
-    text << in.rdbuf();
+    if (!fs::is_regular_file(resultFile)) return s.error = resultFile.string() + " is missing", s;
     try {
-      s.result = json::parse(text.str());
+      s.result = json::parse(fileText(resultFile));
       if (s.result.at("plan").get<std::string>() != p.id)
         return s.error = resultFile.string() + " belongs to another plan (id " + s.result.at("plan").get<std::string>().substr(0, 12) + "…)", s;
       if (s.result.at("job").get<int>() != index)
@@ -267,11 +270,8 @@ JobState readJobState(const Plan& p, int index) {
   }
   if (fs::is_regular_file(failed)) {
     s.kind = JobState::Failed;
-    std::ifstream in(failed, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
     try {
-      const json record = json::parse(text.str());
+      const json record = json::parse(fileText(failed));
       s.error = record.at("error").get<std::string>() + " (on " + record.at("node").get<std::string>() + ", " +
                 record.at("failed_at").get<std::string>() + ")";
     } catch (const json::exception&) {
