@@ -97,15 +97,15 @@ stop_local_slurm() {
   [ -n "$d" ] || return 0
   if [ -n "${SLURM_CONF:-}" ]; then scancel --user="$(id -un)" 2>/dev/null || true; fi
   for p in slurmd slurmctld munged; do
-    if [ -f "$d/$p.pid" ]; then kill "$(cat "$d/$p.pid")" 2>/dev/null || true; fi
+    if [ -f "$d/$p.pid" ]; then kill "$(cat "$d/$p.pid" 2>/dev/null)" 2>/dev/null || true; fi
   done
   for p in slurmd slurmctld munged; do
     local i
     for i in $(seq 1 20); do
-      [ -f "$d/$p.pid" ] && kill -0 "$(cat "$d/$p.pid")" 2>/dev/null || break
+      [ -f "$d/$p.pid" ] && kill -0 "$(cat "$d/$p.pid" 2>/dev/null)" 2>/dev/null || break
       sleep 0.25
     done
-    if [ -f "$d/$p.pid" ]; then kill -9 "$(cat "$d/$p.pid")" 2>/dev/null || true; fi
+    if [ -f "$d/$p.pid" ]; then kill -9 "$(cat "$d/$p.pid" 2>/dev/null)" 2>/dev/null || true; fi
   done
   rm -rf "$d"
   LOCAL_SLURM_DIR=
