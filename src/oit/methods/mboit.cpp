@@ -24,7 +24,6 @@
 // saturate=none never clamps (thesis eq. 2.11). preset=thesis: Algorithms 5–6 as printed.
 // ln, exp, sin and cos are det_math.h's, so the weights are the same bits on every machine.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -33,6 +32,7 @@
 #include "methods/method_common.h"
 #include "methods/methods.h"
 #include "methods/moment_math.h"
+#include "methods/spread_count.h"
 
 namespace oitref::methods {
 namespace {
@@ -201,7 +201,7 @@ class Mboit final : public OpaqueFirstMethod {
     static constexpr float kThesisBiasVector[4] = {0.5f, 0.5f, 0.5f, 0.5f};  // Algorithm 5, line 1
     const float* biasVector = set.trigonometric ? nullptr : unitDepth_ ? kThesisBiasVector : powerBiasVector(set.count, quantised);
     const bool saturate = saturate_;
-    std::atomic<uint64_t> fallbacks{0};  // a sum: the same for any order of the fragments
+    SpreadCount fallbacks;  // a sum: the same for any order of the fragments
     // The weight e^(−b0·absorbance) of each fragment from the absorbances of the n that
     // reconstruct (used[j] their places in the batch), the others (clear) weighted 1; the
     // exponentials of a batch together (detExpFloatBatch: float(detExp) for each, its series'
@@ -211,12 +211,12 @@ class Mboit final : public OpaqueFirstMethod {
       double exponent[kShaderBatch];
       float weight[kShaderBatch];
       for (int i = 0; i < count; ++i) exponent[i] = 0.0;
-      uint64_t fell = 0;  // one atomic add per batch, not per fragment that fell back
+      uint64_t fell = 0;  // one add per batch, not per fragment that fell back
       for (int j = 0; j < n; ++j) {
         fell += fellBack[j];
         exponent[used[j]] = -double(b0s[j]) * double(absorbance[j]);
       }
-      if (fell) fallbacks.fetch_add(fell, std::memory_order_relaxed);
+      if (fell) fallbacks.add(fell);
       detExpFloatBatch(exponent, weight, count);
       for (int i = 0; i < count; ++i) {
         const float wi = weight[i];
@@ -289,7 +289,7 @@ class Mboit final : public OpaqueFirstMethod {
     }
 
     compositeWeighted(run, t, accum, reveal, clamp_);  // as WBOIT
-    result.stats.momentFallbacks = fallbacks.load();
+    result.stats.momentFallbacks = fallbacks.total();
   }
 
  private:

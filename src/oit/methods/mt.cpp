@@ -10,12 +10,12 @@
 //   composite: as WBOIT.
 // The reconstruction is moment_math.cpp's (the same fp32 closed form as mboit power4).
 #include <algorithm>
-#include <atomic>
 
 #include "methods/det_math.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
 #include "methods/moment_math.h"
+#include "methods/spread_count.h"
 
 namespace oitref::methods {
 namespace {
@@ -75,7 +75,7 @@ class Mt final : public OpaqueFirstMethod {
 
     const float bias = bias_;
     const float* biasVector = powerBiasVector(4, false);
-    std::atomic<uint64_t> fallbacks{0};
+    SpreadCount fallbacks;
     // A batch at a time: the bounds in lanes (powerMomentAbsorbanceBatch) and the weights'
     // exponentials together (detExpFloatBatch), each the same bits as one fragment at a time.
     accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
@@ -92,15 +92,17 @@ class Mt final : public OpaqueFirstMethod {
       }
       unitDepths(in, u);
       powerMomentAbsorbanceBatch(4, b, u, count, bias, biasVector, 0.0f, absorbance, fellBack);
+      uint64_t fell = 0;
       for (int i = 0; i < count; ++i) {
-        if (fellBack[i]) fallbacks.fetch_add(1, std::memory_order_relaxed);
+        fell += fellBack[i];
         exponent[i] = -double(std::clamp(absorbance[i], 0.0f, 1.0f)) * double(total[i]);
       }
+      if (fell) fallbacks.add(fell);
       detExpFloatBatch(exponent, w, count);
     });
 
     compositeWeighted(run, t, accum, reveal);
-    result.stats.momentFallbacks = fallbacks.load();
+    result.stats.momentFallbacks = fallbacks.total();
   }
 
  private:
