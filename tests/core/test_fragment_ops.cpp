@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <atomic>
+#include <cmath>
 #include <cstring>
 
 #include "oitref/core/blend.h"
@@ -363,6 +364,81 @@ TEST_CASE("fragment ops: spans rejected by their depth bound give the per-fragme
         }
   CHECK(compared == 60);
   CHECK(failed > 200000);  // most of the later sheets' fragments are hidden
+}
+
+TEST_CASE("fragment ops: a position-only program sees the fragments of the per-fragment path, uninterpolated where runs surely pass", "[fragment]") {
+  // FragmentProgram::readsDepth false lets span() hand runs that provably pass the depth test to
+  // the shader without interpolating them (FragmentStage::positionSpan). The oracle is the
+  // per-fragment path, which tests every fragment's exact z: a shader that records each pixel's
+  // fragments (their count and a hash of their primitive ids in arrival order) must record the
+  // same on both paths, with the same counters, for every depth format and bounded compare
+  // function, and with no depth test. The stored depths are sheets of nearly equal depth drawn
+  // first with writes (codes that tie or differ by a step), so runs pass, fail and straddle.
+  constexpr int kW = 160, kH = 120;
+  test::BitStream rng(17);
+  const auto sheets = [&rng] {
+    Geometry g;
+    for (int i = 0; i < 80; ++i) {
+      const double sheet = 0.2 + 0.15 * double(rng.next() % 4), tilt = rng.uniform(-0.05f, 0.05f);
+      for (int k = 0; k < 3; ++k) {
+        const double x = rng.uniform(-20, kW + 20), y = rng.uniform(-20, kH + 20), w = rng.uniform(1.0f, 8.0f);
+        const double zn = sheet + tilt * x / kW + rng.uniform(-1e-7f, 1e-7f);
+        g.clipPositions.push_back(glm::vec4(float((2 * x / kW - 1) * w), float((2 * y / kH - 1) * w), float(zn * w), float(w)));
+      }
+    }
+    return g;
+  };
+  const Geometry opaque = sheets(), transparent = sheets();
+  int compared = 0, sawNaN = 0;
+  uint64_t passed = 0, failed = 0;
+  for (int tile : {16, 256})
+    for (DepthFormat format : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F})
+      for (CompareFunc func : {CompareFunc::Less, CompareFunc::LEqual, CompareFunc::Greater, CompareFunc::GEqual,
+                               CompareFunc::Always, CompareFunc::Equal})
+        for (bool depthTest : {true, false}) {
+          if (!depthTest && func != CompareFunc::Less) continue;
+          std::vector<uint64_t> seen[2];
+          DrawStats stats[2];
+          for (int perFragment = 0; perFragment < 2; ++perFragment) {
+            Renderer r(RendererOptions{2, tile, perFragment == 1});
+            DepthBuffer depth(format, kW, kH);
+            const bool farther = func == CompareFunc::Greater || func == CompareFunc::GEqual;
+            depth.clear(farther ? 0.0 : 1.0);
+            Framebuffer fb;
+            fb.depth = &depth;
+            PipelineState st;
+            st.depth = {true, farther ? CompareFunc::Greater : CompareFunc::Less, true, false};
+            r.draw(fb, st, opaque, programOf([](const FragmentInput&, FragmentOutput&) {}));
+            st.depth = {depthTest, func, false, false};
+            std::vector<uint64_t>& record = seen[perFragment];
+            record.assign(size_t(2 * kW * kH), 0);
+            std::atomic<int> nan{0};
+            FragmentProgram program = programOfBatch([&record, &nan](const FragmentBatch& in, FragmentBatchOutput&) {
+              for (int i = 0; i < in.count; ++i) {
+                const size_t p = size_t(in.y) * kW + size_t(in.x[i]);
+                ++record[2 * p];
+                record[2 * p + 1] = record[2 * p + 1] * 1000003u + in.primitiveId + 1;
+                if (std::isnan(in.depth[i])) nan.fetch_add(1, std::memory_order_relaxed);
+              }
+            });
+            program.attributesRead = 0;
+            program.readsDepth = false;
+            stats[perFragment] = r.draw(fb, st, transparent, program);
+            sawNaN += nan.load();
+          }
+          INFO("tile " << tile << " " << toString(format) << " " << toString(func) << " depth test " << depthTest);
+          CHECK(seen[0] == seen[1]);
+          CHECK(stats[0].fragmentsRasterized == stats[1].fragmentsRasterized);
+          CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+          CHECK(stats[0].fragmentsDepthFailed == stats[1].fragmentsDepthFailed);
+          passed += stats[0].fragmentsShaded;
+          failed += stats[0].fragmentsDepthFailed;
+          ++compared;
+        }
+  CHECK(compared == 42);
+  CHECK(passed > 200000);
+  CHECK(failed > 200000);
+  CHECK(sawNaN > 100000);  // the span path did skip interpolating runs that surely pass
 }
 
 TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after another", "[fragment]") {

@@ -268,6 +268,12 @@ struct FragmentProgram {
   // 2×2 quad the shader reads (FragmentInput::derivatives; implicit level of detail, GL 4.6
   // §8.14.1); −1: none. It must be below attributesRead − 1 where that is set.
   int derivativesOf = -1;
+  // Whether the shader reads the fragment's depths (FragmentInput::depth, viewDepth). A batch
+  // program that reads neither them nor any attribute (attributesRead 0), with early tests and
+  // no depth writes, lets the pipeline skip interpolating the runs of a span that provably pass
+  // the depth test (pipeline/depth_bounds.h): their fragments reach the shader with NaN depths.
+  // Which fragments reach it, and in which order, does not change.
+  bool readsDepth = true;
 };
 
 // A program whose per-fragment and batch shaders are the one callable

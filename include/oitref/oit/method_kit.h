@@ -156,15 +156,18 @@ class PassRunner {
   // A pass whose shader reads nothing of the surface — only each fragment's position, depths and
   // ids: shader(const FragmentBatch& in, FragmentBatchOutput& out). No attribute is interpolated,
   // except for an alpha-tested object: its fragments that fail the test are discarded first, as
-  // in every other pass (a discarded texel is no surface in any pass).
+  // in every other pass (a discarded texel is no surface in any pass). `readsDepth` false: the
+  // shader reads only the fragments' columns, row and ids, so the pipeline need not interpolate
+  // where it can prove the depth test passes (FragmentProgram::readsDepth; the depths are NaN).
   template <typename BatchShader>
   void transparentPositionPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
-                               const BatchShader& shader) {
+                               const BatchShader& shader, bool readsDepth = true) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       if (object.alphaTest)
         return alphaTestedPositionProgram(object, state, context_.profile.texture, [&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); });
       FragmentProgram program = programOfBatch([&shader](const FragmentBatch& in, FragmentBatchOutput& out) { shader(in, out); });
       program.attributesRead = 0;
+      program.readsDepth = readsDepth;
       return program;
     });
   }

@@ -92,6 +92,40 @@ bool runRejects(const DepthBuffer& depth, int x, int y, int n, double zLow, doub
   return true;
 }
 
+template <DepthFormat Format, CompareFunc Func>
+bool runAccepts(const DepthBuffer& depth, int x, int y, int n, double zLow, double zHigh) {
+  using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
+  if constexpr (Func == CompareFunc::Always) return true;
+  constexpr bool nearer = Func == CompareFunc::Less || Func == CompareFunc::LEqual;
+  const uint32_t code = encodeDepthAs<Format>(nearer ? zHigh : zLow);
+  const Word* row = static_cast<const Word*>(depth.texel(x, y));
+  const lanes::u4 codes = lanes::u4{} + code;
+  lanes::i4 passes = lanes::i4{} - 1;
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    lanes::u4 stored;
+    if constexpr (Format == DepthFormat::D16) stored = lanes::u4{row[i], row[i + 1], row[i + 2], row[i + 3]};
+    else std::memcpy(&stored, row + i, sizeof stored);
+    passes &= depthTestPassesAs<Func, Format>(codes, stored);
+  }
+  if (laneMask(passes) != 0xf) return false;
+  for (; i < n; ++i)
+    if (!depthTestPassesAs<Func, Format>(code, uint32_t(row[i]))) return false;
+  return true;
+}
+
+template <DepthFormat Format>
+DepthRunAccepts runAcceptsFor(CompareFunc func) {
+  switch (func) {
+    case CompareFunc::Less: return runAccepts<Format, CompareFunc::Less>;
+    case CompareFunc::LEqual: return runAccepts<Format, CompareFunc::LEqual>;
+    case CompareFunc::Greater: return runAccepts<Format, CompareFunc::Greater>;
+    case CompareFunc::GEqual: return runAccepts<Format, CompareFunc::GEqual>;
+    case CompareFunc::Always: return runAccepts<Format, CompareFunc::Always>;
+    default: return nullptr;
+  }
+}
+
 template <DepthFormat Format>
 DepthRunRejects runRejectsFor(CompareFunc func) {
   switch (func) {
@@ -141,6 +175,15 @@ DepthRunRejects depthRunRejects(DepthFormat format, CompareFunc func) {
     case DepthFormat::D32F: break;
   }
   return runRejectsFor<DepthFormat::D32F>(func);
+}
+
+DepthRunAccepts depthRunAccepts(DepthFormat format, CompareFunc func) {
+  switch (format) {
+    case DepthFormat::D16: return runAcceptsFor<DepthFormat::D16>(func);
+    case DepthFormat::D24: return runAcceptsFor<DepthFormat::D24>(func);
+    case DepthFormat::D32F: break;
+  }
+  return runAcceptsFor<DepthFormat::D32F>(func);
 }
 
 }  // namespace oitref::detail

@@ -26,4 +26,12 @@ using DepthRunRejects = bool (*)(const DepthBuffer& depth, int x, int y, int n, 
 
 DepthRunRejects depthRunRejects(DepthFormat format, CompareFunc func);
 
+// The converse: whether every pixel (x + i, y), i < n, passes the test for every window z in
+// [zLow, zHigh]; then each passes whatever its exact z. The bound's code farthest from passing
+// stands for all: zHigh's for less and lequal, zLow's for greater and gequal; always passes
+// everything. Null for the functions with no such bound (never, equal, notequal).
+using DepthRunAccepts = DepthRunRejects;
+
+DepthRunAccepts depthRunAccepts(DepthFormat format, CompareFunc func);
+
 }  // namespace oitref::detail

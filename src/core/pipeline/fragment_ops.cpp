@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "util/round_to_float.h"
@@ -41,6 +42,10 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, depth.writeMask);
   if (earlyReject_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, false);
   depthRunRejects_ = earlyDepthTest_ || earlyReject_ ? depthRunRejects(fb_.depth->format(), depth.func) : nullptr;
+  const bool testsDepth = fb_.depth != nullptr && depth.testEnabled;
+  depthRunAccepts_ = earlyDepthTest_ && !depth.writeMask ? depthRunAccepts(fb_.depth->format(), depth.func) : nullptr;
+  positionOnly_ = program.batch && !program.readsDepth && program.attributesRead == 0 && program.derivativesOf < 0 &&
+                  earlyTests_ && program.discardTest.buffer == nullptr && (!testsDepth || depthRunAccepts_);
   // Tested without writing: the buffer is the shader's to read (const in the program).
   const ShaderDepthTest& discard = program.discardTest;
   const bool discardEarly = discard.buffer != nullptr && program.pure && !program.writesDepth;
@@ -79,7 +84,7 @@ void FragmentStage::quadDerivatives(int x, int y, double* out, int stride) const
 void FragmentStage::beginTriangle(const SetupTriangle& t) {
   triangle_ = &t;
   interpolation_ = &t.interpolation;
-  if (depthRunRejects_) depthBounds_.beginTriangle(t.interpolation);
+  if (depthRunRejects_ || depthRunAccepts_) depthBounds_.beginTriangle(t.interpolation);
   rejectSkip_ = rejectBackoff_ = 0;
   const int n = int(attributes_.size());
   for (int i = 0; i < 3; ++i) {
@@ -165,6 +170,7 @@ void FragmentStage::span(int y, int x0, int x1) {
   if (interpolation_->degenerate) return;
   prefetchDepthRow(y + 2, x0, x1);
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
+  if (positionOnly_) return positionSpan(y, yn, x0, x1);
   // Runs of kRejectRun pixels that the depth test surely rejects (depth_bounds.h) are counted and
   // skipped; the pixels between them go through spanBatch up to kBatch at a time.
   if (!depthRunRejects_ || rejectSkip_ > 0) {
@@ -196,6 +202,38 @@ void FragmentStage::span(int y, int x0, int x1) {
   // cost dense's wsum accumulation 4–5 %; with the back-off it costs nothing measurable.
   rejectBackoff_ = rejected ? 0 : std::min(kMaxRejectBackoff, 2 * rejectBackoff_ + 1);
   rejectSkip_ = rejectBackoff_;
+}
+
+// A run that provably passes (or a draw without a depth test) goes to the shader in batches of
+// its columns with NaN depths, counted as rasterized; the runs that provably fail are counted as
+// failed; the rest take spanBatch. Batches hold up to kBatch columns of one run, in ascending order.
+void FragmentStage::positionSpan(int y, double yn, int x0, int x1) {
+  // ALWAYS passes every z: no interval is needed (as without a test).
+  const bool testsDepth = depthRunAccepts_ != nullptr && state_.depth.func != CompareFunc::Always;
+  if (testsDepth) depthBounds_.beginRow(yn);
+  for (int start = x0; start < x1; start += kRejectRun) {
+    const int n = std::min(kRejectRun, x1 - start);
+    double zLow = 0.0, zHigh = 0.0;
+    const double first = double(start) * ndcScaleX_ + ndcOffsetX_, last = double(start + n - 1) * ndcScaleX_ + ndcOffsetX_;
+    const bool bounded = testsDepth && depthBounds_.bound(first, last, zLow, zHigh);
+    if (!testsDepth || (bounded && depthRunAccepts_(*fb_.depth, start, y, n, zLow, zHigh))) {
+      counters_.rasterized += uint64_t(n);
+      for (int b = start; b < start + n; b += kBatch) {
+        const int m = std::min(kBatch, start + n - b);
+        for (int i = 0; i < m; ++i) {
+          batchX_[i] = b + i;
+          batchZ_[i] = std::numeric_limits<double>::quiet_NaN();
+          batchDepth_[i] = batchViewDepth_[i] = std::numeric_limits<float>::quiet_NaN();
+        }
+        shadeAndBlendBatch(y, m);
+      }
+    } else if (bounded && depthRunRejects_ && depthRunRejects_(*fb_.depth, start, y, n, zLow, zHigh)) {
+      counters_.rasterized += uint64_t(n);
+      counters_.depthFailed += uint64_t(n);
+    } else {
+      for (int b = start; b < start + n; b += kBatch) spanBatch(y, yn, b, std::min(kBatch, start + n - b));
+    }
+  }
 }
 
 // Pixels [start, start + n) of row y (NDC y `yn`), n ≤ kBatch: interpolation, the early depth

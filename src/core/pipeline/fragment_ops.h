@@ -81,6 +81,9 @@ class FragmentStage {
   // The batch path: the fragments [0, count) of row y in the batch arrays (batchX_, batchZ_, …),
   // early-tested already, shaded by one program_->batch call, then afterShader and blending.
   void shadeAndBlendBatch(int y, int count);
+  // span() for a draw whose program reads neither depths nor attributes (positionOnly_): runs
+  // that provably pass the depth test go to the shader as they are, without interpolation.
+  void positionSpan(int y, double yn, int x0, int x1);
   // The pixels [start, start + n) of row y at NDC y `yn`, n ≤ kBatch, through the batch path:
   // interpolation in lanes, the early depth test, then shadeAndBlendBatch (or the per-fragment
   // shader and blendBatch).
@@ -190,6 +193,11 @@ class FragmentStage {
   // tests no depth early or its compare function has no such bound.
   DepthRunRejects depthRunRejects_ = nullptr;
   WindowDepthBounds depthBounds_;  // of the current triangle and span
+  // A batch program that reads no depth and no attribute, tested early without depth writes
+  // (FragmentProgram::readsDepth): span() takes positionSpan(). depthRunAccepts_: the draw's
+  // test of a run that surely passes, null where it tests no depth.
+  bool positionOnly_ = false;
+  DepthRunAccepts depthRunAccepts_ = nullptr;
   static constexpr int kMaxRejectBackoff = 15;
   int rejectBackoff_ = 0, rejectSkip_ = 0;  // spans of the current triangle to take without the check
   unsigned boundTargets_ = 0;

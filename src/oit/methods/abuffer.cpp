@@ -107,7 +107,7 @@ class Abuffer final : public Method {
         const uint64_t total = counted.fetch_add(local.pending, std::memory_order_relaxed) + local.pending;
         local.pending = 0;
         if (total > fitting) throw TooManyFragments{};
-      });
+      }, false);  // reads only the columns: runs that surely pass the depth test are not interpolated
     } catch (const TooManyFragments&) {
       stopped = true;
     }
