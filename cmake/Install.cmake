@@ -11,13 +11,12 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-set(_oitref_exported oitref_lib oitref_scene oitref_methods oitref_tools oitref_flags oitref_oiio)
+set(_oitref_exported oitref_lib oitref_scene oitref_methods oitref_tools oitref_flags)
 set_target_properties(oitref_lib PROPERTIES EXPORT_NAME core)
 set_target_properties(oitref_scene PROPERTIES EXPORT_NAME scene)
 set_target_properties(oitref_methods PROPERTIES EXPORT_NAME oit)
 set_target_properties(oitref_tools PROPERTIES EXPORT_NAME apps)
 set_target_properties(oitref_flags PROPERTIES EXPORT_NAME flags)
-set_target_properties(oitref_oiio PROPERTIES EXPORT_NAME oiio)
 # The same names inside this build (for a project that adds oitref with add_subdirectory).
 add_library(oitref::core ALIAS oitref_lib)
 add_library(oitref::scene ALIAS oitref_scene)
@@ -39,5 +38,5 @@ configure_package_config_file(cmake/oitrefConfig.cmake.in ${CMAKE_CURRENT_BINARY
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/oitrefConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/oitrefConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/oitrefConfigVersion.cmake
-        cmake/OpenImageIOFix.cmake DESTINATION ${OITREF_INSTALL_CMAKEDIR})
+        DESTINATION ${OITREF_INSTALL_CMAKEDIR})
 install(TARGETS oitref RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -35,5 +35,8 @@ if(OITREF_HAVE_PYTHON)
     OUTPUT_VARIABLE _oitref_site OUTPUT_STRIP_TRAILING_WHITESPACE)
   set(OITREF_PYTHON_INSTALL_DIR ${_oitref_site} CACHE STRING "Where `cmake --install` puts the Python module, under the prefix")
   install(TARGETS oitref_python LIBRARY DESTINATION ${OITREF_PYTHON_INSTALL_DIR})
+  # Installed, it finds the image module (liboitref_imageio.so) through its run path.
+  file(RELATIVE_PATH _oitref_to_module /prefix/${OITREF_PYTHON_INSTALL_DIR} /prefix/${CMAKE_INSTALL_LIBDIR}/oitref)
+  set_target_properties(oitref_python PROPERTIES INSTALL_RPATH "$ORIGIN/${_oitref_to_module}")
   message(STATUS "oitref: Python module (import oitref from ${CMAKE_BINARY_DIR}/python)")
 endif()

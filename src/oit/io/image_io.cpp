@@ -5,8 +5,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
 #include <unistd.h>
+
+#include "io/image_codec.h"
 
 namespace oitref {
 
@@ -84,7 +85,7 @@ void writeTextFile(const std::string& path, const std::string& text) {
 void checkImagePath(const std::string& path) {
   tempBeside(path);  // the folder
   const std::string ext = lowerExtension(path);
-  if (ext != ".pfm" && !OIIO::ImageOutput::create(path))
+  if (ext != ".pfm" && !detail::imageWriterExists(path))
     throw std::runtime_error(path + ": no image writer for the extension '" + ext +
                              "' (write .png, .exr or .pfm, or another format OpenImageIO writes: .tif, .hdr, …)");
 }
@@ -95,14 +96,15 @@ void writeImage(const std::string& path, const Image& image) {
   const ChannelEncoding enc = f.encoding();
   const bool rawBytes = (enc == ChannelEncoding::Unorm && !f.isPacked()) || enc == ChannelEncoding::Half ||
                         enc == ChannelEncoding::Float32;
-  const OIIO::TypeDesc type = enc == ChannelEncoding::Unorm && !f.isPacked()
-                                  ? (f.unormBits(0) == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8)
-                              : enc == ChannelEncoding::Half                  ? OIIO::TypeDesc::HALF
-                                                                              : OIIO::TypeDesc::FLOAT;
+  using detail::ImageSample;
+  const ImageSample type = enc == ChannelEncoding::Unorm && !f.isPacked()
+                               ? (f.unormBits(0) == 16 ? ImageSample::UInt16 : ImageSample::UInt8)
+                           : enc == ChannelEncoding::Half ? ImageSample::Half
+                                                          : ImageSample::Float;
   const std::string ext = lowerExtension(path);
   const bool pfm = ext == ".pfm";
   checkImagePath(path);  // a writer for the extension first: an unknown one is not a question of bits
-  if (type != OIIO::TypeDesc::UINT8 && !(type == OIIO::TypeDesc::UINT16 && ext == ".png") && ext != ".exr" && !pfm)
+  if (type != ImageSample::UInt8 && !(type == ImageSample::UInt16 && ext == ".png") && ext != ".exr" && !pfm)
     throw std::runtime_error(path + ": format " + f.name() + " holds values beyond 8 bits; write it as .exr or .pfm");
   if (pfm && (enc == ChannelEncoding::Half || f.isUnorm()))
     throw std::runtime_error(path + ": PFM holds fp32 values; write " + f.name() + " as .exr or .png");
@@ -114,7 +116,7 @@ void writeImage(const std::string& path, const Image& image) {
   // Pixels in memory, bottom row first (GL window order); a negative y stride flips on output.
   std::vector<float> decoded;
   const uint8_t* base = image.bytes().data();
-  OIIO::stride_t pixelStride = OIIO::stride_t(image.bytesPerTexel());
+  std::ptrdiff_t pixelStride = std::ptrdiff_t(image.bytesPerTexel());
   if (!rawBytes) {
     decoded.resize(size_t(w) * h * channels);
     for (int y = 0; y < h; ++y)
@@ -123,35 +125,28 @@ void writeImage(const std::string& path, const Image& image) {
         for (int c = 0; c < channels; ++c) decoded[(size_t(y) * w + x) * channels + c] = v[c];
       }
     base = reinterpret_cast<const uint8_t*>(decoded.data());
-    pixelStride = OIIO::stride_t(sizeof(float) * channels);
+    pixelStride = std::ptrdiff_t(sizeof(float) * channels);
   }
-  const OIIO::stride_t rowStride = pixelStride * w;
+  const std::ptrdiff_t rowStride = pixelStride * w;
   const uint8_t* topRow = base + size_t(h - 1) * size_t(rowStride);
 
   const std::filesystem::path final(path);
   const std::filesystem::path temp = tempBeside(final);
-  auto out = OIIO::ImageOutput::create(temp.string());
-  if (!out) throw std::runtime_error(path + ": no image writer for '" + ext + "': " + OIIO::geterror());
-  OIIO::ImageSpec spec(w, h, channels, type);
-  if (channels == 4) spec.alpha_channel = 3;
-  // OIIO stamps the current time into EXR headers unless told otherwise; a reference image must
-  // be the same file every time it is written.
-  spec.attribute("DateTime", "");
-  spec.attribute("Software", "oitref");
-  if (!out->open(temp.string(), spec) ||
-      !out->write_image(type, topRow, pixelStride, -rowStride) || !out->close()) {
-    const std::string err = out->geterror();
-    std::filesystem::remove(temp);
-    throw std::runtime_error(path + ": " + err);
+  std::string error;
+  if (!detail::writeImagePixels(temp.string(), w, h, channels, type, topRow, pixelStride, -rowStride, error)) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw std::runtime_error(path + ": " + error);
   }
   commit(temp, final);
 }
 
 ImageFile readImage(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw std::runtime_error(path + ": cannot read the image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  const int w = spec.width, h = spec.height, channels = spec.nchannels;
+  std::string error;
+  const auto in = detail::ImageFileReader::open(path, error);
+  if (!in) throw std::runtime_error(path + ": cannot read the image: " + error);
+  const detail::ImageFileSpec& spec = in->spec();
+  const int w = spec.width, h = spec.height, channels = spec.channels;
   if (w < 1 || h < 1 || w > Image::kMaxDimension || h > Image::kMaxDimension)
     throw std::runtime_error(path + ": image size " + std::to_string(w) + "x" + std::to_string(h) + " is outside 1.." +
                              std::to_string(Image::kMaxDimension));
@@ -160,18 +155,17 @@ ImageFile readImage(const std::string& path) {
   // (OpenImageIO's own conversion multiplies by a rounded reciprocal).
   const size_t samples = size_t(w) * size_t(h) * size_t(channels);
   std::vector<float> pixels(samples);
-  const bool u8 = spec.format == OIIO::TypeDesc::UINT8, u16 = spec.format == OIIO::TypeDesc::UINT16;
+  const bool u8 = spec.sample == detail::ImageSample::UInt8, u16 = spec.sample == detail::ImageSample::UInt16;
   bool ok = true;
   if (u8 || u16) {
     std::vector<uint16_t> ints(samples);
-    ok = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, ints.data());
+    ok = in->read(detail::ImageSample::UInt16, ints.data(), error);
     // Read as 16 bits: an 8-bit k arrives as k·257, so k·257 / 65535 = k / 255 either way.
     for (size_t i = 0; i < samples; ++i) pixels[i] = float(double(ints[i]) / 65535.0);
   } else {
-    ok = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data());
+    ok = in->read(detail::ImageSample::Float, pixels.data(), error);
   }
-  if (!ok) throw std::runtime_error(path + ": " + in->geterror());
-  in->close();
+  if (!ok) throw std::runtime_error(path + ": " + error);
   const int kept = std::min(channels, 4);
   ImageFile file{Image(makeFormat(kept == 1 ? FormatId::R32F : kept == 2 ? FormatId::RG32F : FormatId::RGBA32F), w, h),
                  channels};

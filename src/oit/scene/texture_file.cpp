@@ -1,11 +1,10 @@
 #include "scene/texture_file.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 
+#include "io/image_codec.h"
 #include "oitref/core/memory_limit.h"
 #include "oitref/oit/scene.h"
 
@@ -24,10 +23,11 @@ uint8_t unorm8FromFloat(float v) {
 
 std::shared_ptr<const Texture2D> loadTextureFile(const std::string& path, TextureFormat format, uint64_t memoryLimit) {
   if (!std::filesystem::is_regular_file(path)) throw SceneError("texture '" + path + "' does not exist or is not a file");
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw SceneError("texture '" + path + "': cannot read the image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  const int w = spec.width, h = spec.height, channels = spec.nchannels;
+  std::string error;
+  const auto in = ImageFileReader::open(path, error);
+  if (!in) throw SceneError("texture '" + path + "': cannot read the image: " + error);
+  const ImageFileSpec& spec = in->spec();
+  const int w = spec.width, h = spec.height, channels = spec.channels;
   if (w < 1 || h < 1 || w > kMaxTextureSize || h > kMaxTextureSize)
     throw SceneError("texture '" + path + "': size " + std::to_string(w) + "x" + std::to_string(h) +
                      " is outside 1.." + std::to_string(kMaxTextureSize));
@@ -35,8 +35,8 @@ std::shared_ptr<const Texture2D> loadTextureFile(const std::string& path, Textur
   const size_t samples = size_t(w) * size_t(h) * size_t(channels);
   // Before any pixel is read (a 74-byte PNG declaring 16384x16384 took 1.2 GB and 3.5 s to fail):
   // the file must be able to hold what its header declares, and the decoded image must fit.
-  const int bits = spec.get_int_attribute("oiio:BitsPerSample", int(spec.format.size() * 8));
-  if (std::string(in->format_name()) == "png") {
+  const int bits = spec.bitsPerSample;
+  if (spec.formatName == "png") {
     // Each row is a filter byte and its packed samples; deflate packs at most 1032 bytes into
     // one (a 258-byte match in two 1-bit codes), so no PNG holds more than 1032 raw bytes a byte.
     const uint64_t raw = uint64_t(h) * (1 + (uint64_t(w) * uint64_t(channels) * uint64_t(bits) + 7) / 8);
@@ -47,7 +47,7 @@ std::shared_ptr<const Texture2D> loadTextureFile(const std::string& path, Textur
                        std::to_string(raw) + " bytes before compression, which no PNG of " + std::to_string(fileBytes) +
                        " bytes can hold (deflate packs at most 1032 bytes into one)");
   }
-  const uint64_t sampleBytes = spec.format == OIIO::TypeDesc::UINT8 ? 1 : spec.format == OIIO::TypeDesc::UINT16 ? 2 : 4;
+  const uint64_t sampleBytes = spec.sample == ImageSample::UInt8 ? 1 : spec.sample == ImageSample::UInt16 ? 2 : 4;
   const uint64_t need = uint64_t(samples) * (sampleBytes + (sampleBytes > 1 ? 1 : 0)) + uint64_t(w) * uint64_t(h) * 4;
   if (need > memoryLimit)
     throw SceneError("texture '" + path + "': " + std::to_string(w) + "x" + std::to_string(h) + " with " +
@@ -55,19 +55,18 @@ std::shared_ptr<const Texture2D> loadTextureFile(const std::string& path, Textur
                      " to load, above the memory limit of " + formatBytes(memoryLimit) + " (--memory-limit)");
   std::vector<uint8_t> bytes(samples);
   bool ok = true;
-  if (spec.format == OIIO::TypeDesc::UINT8) {
-    ok = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, bytes.data());
-  } else if (spec.format == OIIO::TypeDesc::UINT16) {
+  if (spec.sample == ImageSample::UInt8) {
+    ok = in->read(ImageSample::UInt8, bytes.data(), error);
+  } else if (spec.sample == ImageSample::UInt16) {
     std::vector<uint16_t> k(samples);
-    ok = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT16, k.data());
+    ok = in->read(ImageSample::UInt16, k.data(), error);
     std::transform(k.begin(), k.end(), bytes.begin(), unorm8FromUnorm16);
   } else {
     std::vector<float> v(samples);
-    ok = in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, v.data());
+    ok = in->read(ImageSample::Float, v.data(), error);
     std::transform(v.begin(), v.end(), bytes.begin(), unorm8FromFloat);
   }
-  if (!ok) throw SceneError("texture '" + path + "': " + in->geterror());
-  in->close();
+  if (!ok) throw SceneError("texture '" + path + "': " + error);
   std::vector<uint8_t> rgba(size_t(w) * size_t(h) * 4);
   for (int row = 0; row < h; ++row)
     for (int x = 0; x < w; ++x) {
