@@ -1,7 +1,9 @@
 // The deterministic exp/log used by the methods, against the C library over their ranges.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cfloat>
+#include <limits>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -169,4 +171,25 @@ TEST_CASE("det math: a batch of one repeated argument gives detLog's bits in eve
       }
   CHECK(cases == 9 * (3 + 4 + 5 + 16 + 17 + 18 + 64 + 65));
   CHECK(different == 0);
+}
+
+TEST_CASE("det math: detExpMany gives detExp's bits for every argument, special ones included", "[detmath]") {
+  test::BitStream rng(7);
+  std::vector<double> x;
+  for (int i = 0; i < 20000; ++i) x.push_back(double(rng.uniform(-60.0f, 60.0f)) + double(rng.uniform(-1, 1)) * 1e-9);
+  for (double v : {0.0, -0.0, 709.0, 709.5, -745.0, -745.5, -740.0, -708.5, 1e300, -1e300, std::numeric_limits<double>::infinity(),
+                   -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN(), 1e-310})
+    x.push_back(v);
+  int compared = 0;
+  for (size_t start = 0; start < x.size(); start += 13) {  // groups of 13 and a shorter last one
+    const int n = int(std::min<size_t>(13, x.size() - start));
+    double many[16];
+    methods::detExpMany(x.data() + start, many, n);
+    for (int i = 0; i < n; ++i, ++compared) {
+      const double one = methods::detExp(x[start + size_t(i)]);
+      INFO("x = " << x[start + size_t(i)]);
+      CHECK(std::memcmp(&one, &many[i], sizeof one) == 0);
+    }
+  }
+  CHECK(compared == int(x.size()));
 }

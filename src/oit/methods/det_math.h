@@ -34,6 +34,23 @@ inline double detExp(double x) {
   return std::ldexp(p, int(k));
 }
 
+// detExp of n ≤ 16 arguments, each by detExp's own operations (the same bits), their chains of
+// sixteen dependent divisions side by side so that they overlap instead of waiting on each other
+// (the DFAOIT training's sigmoids: tools/dfaoit_training.cpp).
+inline void detExpMany(const double* x, double* out, int n) {
+  double k[16], r[16], p[16];
+  bool regular[16];
+  for (int i = 0; i < n; ++i) {
+    regular[i] = !(std::isnan(x[i]) || x[i] > 709.0 || x[i] < -745.0);
+    k[i] = regular[i] ? std::nearbyint(x[i] * kLog2E) : 0.0;
+    r[i] = regular[i] ? detExpRemainder(x[i], k[i]) : 0.0;
+    p[i] = 1.0;
+  }
+  for (int m = 16; m >= 1; --m)
+    for (int i = 0; i < n; ++i) p[i] = 1.0 + p[i] * r[i] / m;
+  for (int i = 0; i < n; ++i) out[i] = regular[i] ? std::ldexp(p[i], int(k[i])) : detExp(x[i]);
+}
+
 // Four groups of four lanes from x[0…lanes), lanes ≤ 16, the rest `fill`: whole vectors where
 // the groups are full (built lane by lane in memory, each vector load waited on the narrower
 // stores before it: no store forwarding).
