@@ -43,6 +43,24 @@ std::vector<uint8_t> attachmentBytes(const Image& color, const DepthBuffer& dept
   return bytes;
 }
 
+// `triangles` perspective triangles of a kSheetsW × kSheetsH framebuffer in four sheets of
+// nearly equal depth, each slightly tilted: their depth codes tie or differ by a step in d16 and
+// d24, so depth-tested runs pass, fail and straddle.
+constexpr int kSheetsW = 160, kSheetsH = 120;
+Geometry nearlyEqualSheets(test::BitStream& rng, int triangles) {
+  constexpr int kW = kSheetsW, kH = kSheetsH;
+  Geometry g;
+  for (int i = 0; i < triangles; ++i) {
+    const double sheet = 0.2 + 0.15 * double(rng.next() % 4), tilt = rng.uniform(-0.05f, 0.05f);
+    for (int k = 0; k < 3; ++k) {
+      const double x = rng.uniform(-20, kW + 20), y = rng.uniform(-20, kH + 20), w = rng.uniform(1.0f, 8.0f);
+      const double zn = sheet + tilt * x / kW + rng.uniform(-1e-7f, 1e-7f);
+      g.clipPositions.push_back(glm::vec4(float((2 * x / kW - 1) * w), float((2 * y / kH - 1) * w), float(zn * w), float(w)));
+    }
+  }
+  return g;
+}
+
 const BlendState kOver = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::SrcAlpha,
                                               BlendFactor::OneMinusSrcAlpha, BlendFactor::One, BlendFactor::OneMinusSrcAlpha);
 
@@ -314,17 +332,9 @@ TEST_CASE("fragment ops: spans rejected by their depth bound give the per-fragme
   // depth writes, so later sheets are partly hidden by earlier ones: for every depth format and
   // compare function, early tests and a pure program that discards (tested early without writing),
   // the colour and depth bytes and the counts must be the same on both paths.
-  constexpr int kW = 160, kH = 120;
+  constexpr int kW = kSheetsW, kH = kSheetsH;
   test::BitStream rng(5);
-  Geometry g;
-  for (int i = 0; i < 120; ++i) {
-    const double sheet = 0.2 + 0.15 * double(rng.next() % 4), tilt = rng.uniform(-0.05f, 0.05f);
-    for (int k = 0; k < 3; ++k) {
-      const double x = rng.uniform(-20, kW + 20), y = rng.uniform(-20, kH + 20), w = rng.uniform(1.0f, 8.0f);
-      const double zn = sheet + tilt * x / kW + rng.uniform(-1e-7f, 1e-7f);
-      g.clipPositions.push_back(glm::vec4(float((2 * x / kW - 1) * w), float((2 * y / kH - 1) * w), float(zn * w), float(w)));
-    }
-  }
+  const Geometry g = nearlyEqualSheets(rng, 120);
   const auto shade = [](const FragmentInput& in, FragmentOutput& o) { o.write(0, colorOf(in.primitiveId)); };
   const auto discarding = [](const FragmentInput& in, FragmentOutput& o) {
     if ((in.primitiveId + uint32_t(in.x)) % 5 == 0) return o.discard();
@@ -374,21 +384,9 @@ TEST_CASE("fragment ops: a position-only program sees the fragments of the per-f
   // same on both paths, with the same counters, for every depth format and bounded compare
   // function, and with no depth test. The stored depths are sheets of nearly equal depth drawn
   // first with writes (codes that tie or differ by a step), so runs pass, fail and straddle.
-  constexpr int kW = 160, kH = 120;
+  constexpr int kW = kSheetsW, kH = kSheetsH;
   test::BitStream rng(17);
-  const auto sheets = [&rng] {
-    Geometry g;
-    for (int i = 0; i < 80; ++i) {
-      const double sheet = 0.2 + 0.15 * double(rng.next() % 4), tilt = rng.uniform(-0.05f, 0.05f);
-      for (int k = 0; k < 3; ++k) {
-        const double x = rng.uniform(-20, kW + 20), y = rng.uniform(-20, kH + 20), w = rng.uniform(1.0f, 8.0f);
-        const double zn = sheet + tilt * x / kW + rng.uniform(-1e-7f, 1e-7f);
-        g.clipPositions.push_back(glm::vec4(float((2 * x / kW - 1) * w), float((2 * y / kH - 1) * w), float(zn * w), float(w)));
-      }
-    }
-    return g;
-  };
-  const Geometry opaque = sheets(), transparent = sheets();
+  const Geometry opaque = nearlyEqualSheets(rng, 80), transparent = nearlyEqualSheets(rng, 80);
   int compared = 0, sawNaN = 0;
   uint64_t passed = 0, failed = 0;
   for (int tile : {16, 256})
