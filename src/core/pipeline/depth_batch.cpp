@@ -71,57 +71,41 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
   return count;
 }
 
-template <DepthFormat Format, CompareFunc Func>
-bool runRejects(const DepthBuffer& depth, int x, int y, int n, double zLow, double zHigh) {
+// Whether every pixel of the run gives the test result `Passes` for every window z in
+// [zLow, zHigh]: the depth codes are monotone in z, so the bound's code nearest to the other
+// result stands for all (zLow's for less and lequal when rejecting, zHigh's when accepting, and
+// the reverse for greater and gequal). ALWAYS passes everything.
+template <DepthFormat Format, CompareFunc Func, bool Passes>
+bool runAll(const DepthBuffer& depth, int x, int y, int n, double zLow, double zHigh) {
   using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
+  if constexpr (Func == CompareFunc::Always) return Passes;
   constexpr bool nearer = Func == CompareFunc::Less || Func == CompareFunc::LEqual;
-  const uint32_t code = encodeDepthAs<Format>(nearer ? zLow : zHigh);
+  const uint32_t code = encodeDepthAs<Format>(nearer != Passes ? zLow : zHigh);
   const Word* row = static_cast<const Word*>(depth.texel(x, y));
   const lanes::u4 codes = lanes::u4{} + code;
-  lanes::i4 passes = {};
+  const lanes::i4 wanted = Passes ? lanes::i4{} - 1 : lanes::i4{};
+  lanes::i4 other = {};  // lanes whose result was not the wanted one
   int i = 0;
   for (; i + 4 <= n; i += 4) {
     lanes::u4 stored;
     if constexpr (Format == DepthFormat::D16) stored = lanes::u4{row[i], row[i + 1], row[i + 2], row[i + 3]};
     else std::memcpy(&stored, row + i, sizeof stored);
-    passes |= depthTestPassesAs<Func, Format>(codes, stored);
+    other |= depthTestPassesAs<Func, Format>(codes, stored) ^ wanted;
   }
-  if (laneMask(passes)) return false;
+  if (laneMask(other)) return false;
   for (; i < n; ++i)
-    if (depthTestPassesAs<Func, Format>(code, uint32_t(row[i]))) return false;
-  return true;
-}
-
-template <DepthFormat Format, CompareFunc Func>
-bool runAccepts(const DepthBuffer& depth, int x, int y, int n, double zLow, double zHigh) {
-  using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
-  if constexpr (Func == CompareFunc::Always) return true;
-  constexpr bool nearer = Func == CompareFunc::Less || Func == CompareFunc::LEqual;
-  const uint32_t code = encodeDepthAs<Format>(nearer ? zHigh : zLow);
-  const Word* row = static_cast<const Word*>(depth.texel(x, y));
-  const lanes::u4 codes = lanes::u4{} + code;
-  lanes::i4 passes = lanes::i4{} - 1;
-  int i = 0;
-  for (; i + 4 <= n; i += 4) {
-    lanes::u4 stored;
-    if constexpr (Format == DepthFormat::D16) stored = lanes::u4{row[i], row[i + 1], row[i + 2], row[i + 3]};
-    else std::memcpy(&stored, row + i, sizeof stored);
-    passes &= depthTestPassesAs<Func, Format>(codes, stored);
-  }
-  if (laneMask(passes) != 0xf) return false;
-  for (; i < n; ++i)
-    if (!depthTestPassesAs<Func, Format>(code, uint32_t(row[i]))) return false;
+    if (depthTestPassesAs<Func, Format>(code, uint32_t(row[i])) != Passes) return false;
   return true;
 }
 
 template <DepthFormat Format>
 DepthRunAccepts runAcceptsFor(CompareFunc func) {
   switch (func) {
-    case CompareFunc::Less: return runAccepts<Format, CompareFunc::Less>;
-    case CompareFunc::LEqual: return runAccepts<Format, CompareFunc::LEqual>;
-    case CompareFunc::Greater: return runAccepts<Format, CompareFunc::Greater>;
-    case CompareFunc::GEqual: return runAccepts<Format, CompareFunc::GEqual>;
-    case CompareFunc::Always: return runAccepts<Format, CompareFunc::Always>;
+    case CompareFunc::Less: return runAll<Format, CompareFunc::Less, true>;
+    case CompareFunc::LEqual: return runAll<Format, CompareFunc::LEqual, true>;
+    case CompareFunc::Greater: return runAll<Format, CompareFunc::Greater, true>;
+    case CompareFunc::GEqual: return runAll<Format, CompareFunc::GEqual, true>;
+    case CompareFunc::Always: return runAll<Format, CompareFunc::Always, true>;
     default: return nullptr;
   }
 }
@@ -129,10 +113,10 @@ DepthRunAccepts runAcceptsFor(CompareFunc func) {
 template <DepthFormat Format>
 DepthRunRejects runRejectsFor(CompareFunc func) {
   switch (func) {
-    case CompareFunc::Less: return runRejects<Format, CompareFunc::Less>;
-    case CompareFunc::LEqual: return runRejects<Format, CompareFunc::LEqual>;
-    case CompareFunc::Greater: return runRejects<Format, CompareFunc::Greater>;
-    case CompareFunc::GEqual: return runRejects<Format, CompareFunc::GEqual>;
+    case CompareFunc::Less: return runAll<Format, CompareFunc::Less, false>;
+    case CompareFunc::LEqual: return runAll<Format, CompareFunc::LEqual, false>;
+    case CompareFunc::Greater: return runAll<Format, CompareFunc::Greater, false>;
+    case CompareFunc::GEqual: return runAll<Format, CompareFunc::GEqual, false>;
     default: return nullptr;
   }
 }
