@@ -22,33 +22,30 @@ inline D detExpRemainder(D x, D k) {
   return (x - k * kLn2Hi) - k * kLn2Lo;
 }
 
-// e^x: x = k·ln2 + r with |r| ≤ ln2/2, then a Taylor polynomial of r to degree 16.
-inline double detExp(double x) {
-  if (std::isnan(x)) return x;
-  if (x > 709.0) return std::numeric_limits<double>::infinity();
-  if (x < -745.0) return 0.0;
-  const double k = std::nearbyint(x * kLog2E);
-  const double r = detExpRemainder(x, k);
-  double p = 1.0;
-  for (int n = 16; n >= 1; --n) p = 1.0 + p * r / n;  // Horner form of Σ r^n / n!
-  return std::ldexp(p, int(k));
-}
-
-// detExp of n ≤ 16 arguments, each by detExp's own operations (the same bits), their chains of
-// sixteen dependent divisions side by side so that they overlap instead of waiting on each other
-// (the DFAOIT training's sigmoids: tools/dfaoit_training.cpp).
+// e^x for n ≤ 16 arguments: x = k·ln2 + r with |r| ≤ ln2/2, then a Taylor polynomial of r to
+// degree 16 in Horner form (NaN stays NaN, above 709 infinity, below −745 zero). Each argument
+// takes its own operations, so the bits do not depend on n; the arguments' chains of sixteen
+// dependent divisions run side by side, so that they overlap (the DFAOIT training's sigmoids).
 inline void detExpMany(const double* x, double* out, int n) {
   double k[16], r[16], p[16];
-  bool regular[16];
   for (int i = 0; i < n; ++i) {
-    regular[i] = !(std::isnan(x[i]) || x[i] > 709.0 || x[i] < -745.0);
-    k[i] = regular[i] ? std::nearbyint(x[i] * kLog2E) : 0.0;
-    r[i] = regular[i] ? detExpRemainder(x[i], k[i]) : 0.0;
+    const bool regular = !(std::isnan(x[i]) || x[i] > 709.0 || x[i] < -745.0);
+    k[i] = regular ? std::nearbyint(x[i] * kLog2E) : 0.0;
+    r[i] = regular ? detExpRemainder(x[i], k[i]) : 0.0;
     p[i] = 1.0;
   }
   for (int m = 16; m >= 1; --m)
-    for (int i = 0; i < n; ++i) p[i] = 1.0 + p[i] * r[i] / m;
-  for (int i = 0; i < n; ++i) out[i] = regular[i] ? std::ldexp(p[i], int(k[i])) : detExp(x[i]);
+    for (int i = 0; i < n; ++i) p[i] = 1.0 + p[i] * r[i] / m;  // Horner form of Σ r^m / m!
+  for (int i = 0; i < n; ++i)
+    out[i] = std::isnan(x[i]) ? x[i]
+             : x[i] > 709.0   ? std::numeric_limits<double>::infinity()
+             : x[i] < -745.0  ? 0.0
+                              : std::ldexp(p[i], int(k[i]));
+}
+inline double detExp(double x) {
+  double e;
+  detExpMany(&x, &e, 1);
+  return e;
 }
 
 // Four groups of four lanes from x[0…lanes), lanes ≤ 16, the rest `fill`: whole vectors where
