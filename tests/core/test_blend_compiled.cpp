@@ -78,6 +78,11 @@ TEST_CASE("blend: kernels compiled for the methods' blend states give the genera
 TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "[blend]") {
   test::BitStream rng(77);
   std::vector<BlendState> states(std::begin(detail::states::kMethodBlendStates), std::end(detail::states::kMethodBlendStates));
+  // Blending disabled (the conversion alone: the composites' final RGBA8), all channels and some.
+  states.push_back(BlendState{});
+  BlendState someChannels;
+  someChannels.writeMask = 0x5;
+  states.push_back(someChannels);
   for (int i = 0; i < 40; ++i)
     states.push_back(BlendState::separate(BlendEquation(rng.next() % 5), BlendEquation(rng.next() % 5),
                                           BlendFactor(rng.next() % 15), BlendFactor(rng.next() % 15),

@@ -63,6 +63,10 @@ struct Float32Texels {
   }
   template <int Channels>
   static void store(const Profile&, v4f value, uint8_t* texel) {
+    if constexpr (Channels == 4) {  // one 16-byte store, not four of a lane each
+      std::memcpy(texel, &value, sizeof value);
+      return;
+    }
     for (int c = 0; c < Channels; ++c) {
       const float v = value[c];
       std::memcpy(texel + 4 * c, &v, 4);
@@ -86,6 +90,32 @@ struct PixelRun {
   const glm::vec4& source(int i) const { return sources[i]; }
   uint8_t* texel(int i) const { return texels + size_t(i) * Bytes; }
 };
+
+// The conversion alone (blending disabled) into four 8-bit UNORM channels: the rounding rule
+// chosen once for the run, not per pixel, and two pixels' codes narrowed and stored together
+// (each pixel's codes are encodeUnorm4's, so the bits of one pixel at a time).
+template <typename Pixels>
+void encodeUnorm8Pixels(UnormRounding rounding, const Pixels& pixels, int n) {
+  auto run = [&](auto rule) {
+    constexpr UnormRounding kRule = decltype(rule)::value;
+    int i = 0;
+#if defined(__SSE2__)
+    for (; i + 2 <= n; i += 2) {
+      const v4i a = encodeUnorm4(load4(pixels.source(i)), 8, kRule), b = encodeUnorm4(load4(pixels.source(i + 1)), 8, kRule);
+      const __m128i words = _mm_packs_epi32(__m128i(a), __m128i(b));  // exact for 0..255
+      const int64_t bytes = _mm_cvtsi128_si64(_mm_packus_epi16(words, words));
+      std::memcpy(pixels.texel(i), &bytes, 4);
+      std::memcpy(pixels.texel(i + 1), reinterpret_cast<const char*>(&bytes) + 4, 4);
+    }
+#endif
+    for (; i < n; ++i) storeUnorm8Codes<4>(encodeUnorm4(load4(pixels.source(i)), 8, kRule), pixels.texel(i));
+  };
+  switch (rounding) {
+    case UnormRounding::ExactNearestEven: return run(std::integral_constant<UnormRounding, UnormRounding::ExactNearestEven>{});
+    case UnormRounding::Fp32Product: return run(std::integral_constant<UnormRounding, UnormRounding::Fp32Product>{});
+    case UnormRounding::NvidiaFixed: return run(std::integral_constant<UnormRounding, UnormRounding::NvidiaFixed>{});
+  }
+}
 
 // Whether a method state is MAX on every channel (the factors are ignored then).
 constexpr bool maxOnEveryChannel(int state) {
@@ -411,6 +441,7 @@ void TargetBlender::fastKernel(const TargetBlender& b, const glm::vec4& source, 
 template <typename Texels, int Channels, int State, typename Pixels>
 void TargetBlender::fastPixels(const TargetBlender& b, const Pixels& pixels, int n) {
   if (!enabled<State>(b)) {  // the conversion alone, as fastKernel does then
+    if constexpr (std::is_same_v<Texels, Unorm8Texels> && Channels == 4) return encodeUnorm8Pixels(b.profile_.unorm, pixels, n);
     for (int i = 0; i < n; ++i) Texels::template store<Channels>(b.profile_, load4(pixels.source(i)), pixels.texel(i));
     return;
   }
