@@ -439,6 +439,90 @@ TEST_CASE("fragment ops: a position-only program sees the fragments of the per-f
   CHECK(sawNaN > 100000);  // the span path did skip interpolating runs that surely pass
 }
 
+TEST_CASE("fragment ops: runs decided by their tile row's stored depth range give the per-fragment path's bits", "[fragment]") {
+  // A draw that tests depth without writing it summarises each tile row's stored depths once
+  // (least and greatest: FragmentStage::rowDepthRange) and decides a run against that range
+  // before reading its own depths: all pass (no per-fragment test) or all fail (skipped). The
+  // oracle is the per-fragment path. Stored depths: sheets of nearly equal depth drawn with
+  // writes (codes that tie or differ by a step), plus pokes of values the range cannot order
+  // (D32F −0, NaN, −0.5, 2) and of the extreme codes, so that runs pass, fail, straddle and
+  // meet unordered rows. Additive blending into fp32, so a fragment lost, added or reordered
+  // changes the bytes. A program that reads no depth (FragmentProgram::readsDepth false) gets
+  // NaN depths in the runs that surely pass, and the same bytes.
+  constexpr int kW = kSheetsW, kH = kSheetsH;
+  test::BitStream rng(23);
+  const Geometry opaque = nearlyEqualSheets(rng, 80);
+  Geometry transparent = nearlyEqualSheets(rng, 80);  // with an attribute, so that the barycentrics count
+  transparent.attributeCount = 1;
+  for (size_t v = 0; v < transparent.vertexCount(); ++v) transparent.attributes.push_back(rng.uniform(-3.0f, 3.0f));
+  std::atomic<uint64_t> nanDepths{0};
+  const auto shade = [&nanDepths](const FragmentInput& in, FragmentOutput& o) {
+    if (std::isnan(in.depth)) nanDepths.fetch_add(1, std::memory_order_relaxed);
+    const glm::vec4 c = colorOf(in.primitiveId);
+    o.write(0, {c.r, c.g, c.b, in.attributes[0]});
+  };
+  int compared = 0;
+  uint64_t passed = 0, failed = 0;
+  for (int tile : {16, 256})
+    for (DepthFormat format : {DepthFormat::D16, DepthFormat::D24, DepthFormat::D32F})
+      for (CompareFunc func : {CompareFunc::Less, CompareFunc::LEqual, CompareFunc::Greater, CompareFunc::GEqual,
+                               CompareFunc::Always})
+        for (bool poked : {false, true})
+        for (bool readsDepth : {true, false}) {
+          std::vector<uint8_t> bytes[2];
+          DrawStats stats[2];
+          for (int perFragment = 0; perFragment < 2; ++perFragment) {
+            Renderer r(RendererOptions{2, tile, perFragment == 1});
+            Image sum(makeFormat(FormatId::RGBA32F), kW, kH);
+            sum.clear({0, 0, 0, 0}, exactProfile());
+            DepthBuffer depth(format, kW, kH);
+            const bool farther = func == CompareFunc::Greater || func == CompareFunc::GEqual;
+            depth.clear(farther ? 0.0 : 1.0);
+            Framebuffer fb;
+            fb.color[0] = &sum, fb.depth = &depth;
+            PipelineState st;
+            st.depth = {true, farther ? CompareFunc::Greater : CompareFunc::Less, true, false};
+            r.draw(fb, st, opaque, programOf([](const FragmentInput&, FragmentOutput&) {}));
+            if (poked) {
+              test::BitStream pokes(7);  // the same pixels and values on both paths
+              const uint32_t d32[] = {0x80000000u, 0x7fc00000u, 0xbf000000u, 0x40000000u, 0u, 0x3f800000u};
+              const uint32_t top = format == DepthFormat::D16 ? 0xffffu : 0xffffffu;
+              for (int i = 0; i < 40; ++i) {
+                const int x = int(pokes.next() % kW), y = int(pokes.next() % kH);
+                const uint32_t k = pokes.next() % 6;
+                depth.store(x, y, format == DepthFormat::D32F ? d32[k] : k % 2 ? top : 0u);
+              }
+            }
+            st.depth = {true, func, false, false};
+            st.blend[0] = BlendState::separate(BlendEquation::Add, BlendEquation::Add, BlendFactor::One, BlendFactor::One,
+                                               BlendFactor::One, BlendFactor::One);
+            FragmentProgram program = programOf(shade);
+            program.readsDepth = readsDepth;
+            const uint64_t nanBefore = nanDepths.load();
+            stats[perFragment] = r.draw(fb, st, transparent, program);
+            if (readsDepth || perFragment) CHECK(nanDepths.load() == nanBefore);  // depths where promised
+            bytes[perFragment] = attachmentBytes(sum, depth);
+          }
+          INFO("tile " << tile << " " << toString(format) << " " << toString(func) << " poked " << poked << " reads depth "
+                        << readsDepth);
+          size_t differing = 0;  // counted, not printed: a failure would print 200 KB of bytes
+          for (size_t i = 0; i < bytes[0].size(); ++i) differing += bytes[0][i] != bytes[1][i];
+          CHECK(bytes[0].size() == bytes[1].size());
+          CHECK(differing == 0);
+          CHECK(stats[0].fragmentsRasterized == stats[1].fragmentsRasterized);
+          CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+          CHECK(stats[0].fragmentsDepthFailed == stats[1].fragmentsDepthFailed);
+          CHECK(stats[0].fragmentsWritten == stats[1].fragmentsWritten);
+          passed += stats[0].fragmentsShaded;
+          failed += stats[0].fragmentsDepthFailed;
+          ++compared;
+        }
+  CHECK(compared == 120);
+  CHECK(passed > 400000);
+  CHECK(failed > 400000);
+  CHECK(nanDepths.load() > 100000);  // runs that surely pass skipped the window depth
+}
+
 TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after another", "[fragment]") {
   // Renderer::drawSequence runs every draw tile by tile; OVER does not commute, so the bytes are
   // those of separate draw() calls only if each pixel still sees the draws in order. drawId

@@ -269,10 +269,10 @@ struct FragmentProgram {
   // §8.14.1); −1: none. It must be below attributesRead − 1 where that is set.
   int derivativesOf = -1;
   // Whether the shader reads the fragment's depths (FragmentInput::depth, viewDepth). A batch
-  // program that reads neither them nor any attribute (attributesRead 0), with early tests and
-  // no depth writes, lets the pipeline skip interpolating the runs of a span that provably pass
-  // the depth test (pipeline/depth_bounds.h): their fragments reach the shader with NaN depths.
-  // Which fragments reach it, and in which order, does not change.
+  // program that does not, with early tests and no depth writes, lets the pipeline skip the
+  // window depth of the runs of a span that provably pass the depth test (pipeline/depth_bounds.h),
+  // and, if it reads no attribute either (attributesRead 0), their interpolation: their fragments
+  // reach the shader with NaN depths. Which fragments reach it, and in which order, does not change.
   bool readsDepth = true;
 };
 

@@ -118,10 +118,12 @@ class PassRunner {
   // kShaderBatch, for shaders whose arithmetic gains from seeing several fragments at once
   // (lanes). The per-fragment program calls it with a batch of one, so it stays the batch's oracle.
   // `discardTest`: the shader's own depth test (FragmentProgram::discardTest; needs `pure`).
+  // `readsDepth` false: the shader reads neither in.depth nor in.viewDepth, so the pipeline need
+  // not compute the window depth where it proves the depth test passes (FragmentProgram::readsDepth).
   template <typename BatchShader>
   void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                             const BatchShader& shader, bool mayDiscard = false, bool pure = false,
-                            const ShaderDepthTest& discardTest = {}) {
+                            const ShaderDepthTest& discardTest = {}, bool readsDepth = true) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       const TextureFiltering filtering = context_.profile.texture;
       FragmentProgram program = programOfBatch(
@@ -149,6 +151,7 @@ class PassRunner {
           },
           mayDiscard, pure);
       program.discardTest = discardTest;
+      program.readsDepth = readsDepth;
       withSurfaceTest(program, object, state);
       return program;
     });

@@ -1,5 +1,6 @@
 #include "pipeline/depth_batch.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -98,6 +99,37 @@ bool runAll(const DepthBuffer& depth, int x, int y, int n, double zLow, double z
   return true;
 }
 
+template <DepthFormat Format, CompareFunc Func>
+RunVerdict rangeVerdict(const StoredDepthRange& range, double zLow, double zHigh) {
+  if (!range.ordered) return RunVerdict::Undecided;
+  if constexpr (Func == CompareFunc::Always) return RunVerdict::AllPass;
+  constexpr bool nearer = Func == CompareFunc::Less || Func == CompareFunc::LEqual;
+  const uint32_t farthest = encodeDepthAs<Format>(nearer ? zHigh : zLow);
+  if (depthTestPassesAs<Func, Format>(farthest, nearer ? range.least : range.greatest)) return RunVerdict::AllPass;
+  const uint32_t nearest = encodeDepthAs<Format>(nearer ? zLow : zHigh);
+  if (!depthTestPassesAs<Func, Format>(nearest, nearer ? range.greatest : range.least)) return RunVerdict::AllFail;
+  return RunVerdict::Undecided;
+}
+
+template <DepthFormat Format>
+DepthRangeVerdict rangeVerdictFor(CompareFunc func) {
+  switch (func) {
+    case CompareFunc::Less: return rangeVerdict<Format, CompareFunc::Less>;
+    case CompareFunc::LEqual: return rangeVerdict<Format, CompareFunc::LEqual>;
+    case CompareFunc::Greater: return rangeVerdict<Format, CompareFunc::Greater>;
+    case CompareFunc::GEqual: return rangeVerdict<Format, CompareFunc::GEqual>;
+    case CompareFunc::Always: return rangeVerdict<Format, CompareFunc::Always>;
+    default: return nullptr;
+  }
+}
+
+template <typename Word>
+void leastAndGreatest(const Word* row, int n, uint32_t& least, uint32_t& greatest) {
+  Word lo = row[0], hi = row[0];
+  for (int i = 1; i < n; ++i) lo = std::min(lo, row[i]), hi = std::max(hi, row[i]);
+  least = lo, greatest = hi;
+}
+
 template <DepthFormat Format>
 DepthRunAccepts runAcceptsFor(CompareFunc func) {
   switch (func) {
@@ -168,6 +200,25 @@ DepthRunAccepts depthRunAccepts(DepthFormat format, CompareFunc func) {
     case DepthFormat::D32F: break;
   }
   return runAcceptsFor<DepthFormat::D32F>(func);
+}
+
+StoredDepthRange storedDepthRange(const DepthBuffer& depth, int x, int y, int n) {
+  StoredDepthRange r;
+  if (n <= 0) return r;
+  if (depth.format() == DepthFormat::D16) leastAndGreatest(static_cast<const uint16_t*>(depth.texel(x, y)), n, r.least, r.greatest);
+  else leastAndGreatest(static_cast<const uint32_t*>(depth.texel(x, y)), n, r.least, r.greatest);
+  // fp32 values in [+0, 1] order like their bits (depthTestPassesAs compares them as floats).
+  r.ordered = depth.format() != DepthFormat::D32F || r.greatest <= 0x3f800000u;
+  return r;
+}
+
+DepthRangeVerdict depthRangeVerdict(DepthFormat format, CompareFunc func) {
+  switch (format) {
+    case DepthFormat::D16: return rangeVerdictFor<DepthFormat::D16>(func);
+    case DepthFormat::D24: return rangeVerdictFor<DepthFormat::D24>(func);
+    case DepthFormat::D32F: break;
+  }
+  return rangeVerdictFor<DepthFormat::D32F>(func);
 }
 
 }  // namespace oitref::detail

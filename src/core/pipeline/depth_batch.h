@@ -34,4 +34,24 @@ using DepthRunAccepts = DepthRunRejects;
 
 DepthRunAccepts depthRunAccepts(DepthFormat format, CompareFunc func);
 
+// The stored depths of a row segment in one summary, for draws that do not write depth (a GPU's
+// hierarchical depth): the least and the greatest word, in the order the test compares them.
+// `ordered` is false where that order is not the words' (D32F values outside [+0, 1]: negative,
+// −0, NaN, above 1); the summary then decides nothing.
+struct StoredDepthRange {
+  uint32_t least = 0, greatest = 0;
+  bool ordered = false;
+};
+StoredDepthRange storedDepthRange(const DepthBuffer& depth, int x, int y, int n);
+
+// What the test gives every window z in [zLow, zHigh] against every stored depth of a range:
+// the code farthest from passing against the stored value nearest to failing (all pass), or the
+// code nearest to passing against the value farthest from it (all fail), as DepthRunAccepts
+// and DepthRunRejects take them for each stored value. Null for the functions with no such bound
+// (never, equal, notequal).
+enum class RunVerdict { Undecided, AllPass, AllFail };
+using DepthRangeVerdict = RunVerdict (*)(const StoredDepthRange& range, double zLow, double zHigh);
+
+DepthRangeVerdict depthRangeVerdict(DepthFormat format, CompareFunc func);
+
 }  // namespace oitref::detail

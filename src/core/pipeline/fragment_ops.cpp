@@ -44,6 +44,7 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   depthRunRejects_ = earlyDepthTest_ || earlyReject_ ? depthRunRejects(fb_.depth->format(), depth.func) : nullptr;
   const bool testsDepth = fb_.depth != nullptr && depth.testEnabled;
   depthRunAccepts_ = earlyDepthTest_ && !depth.writeMask ? depthRunAccepts(fb_.depth->format(), depth.func) : nullptr;
+  rangeVerdict_ = drawRangeVerdict();
   positionOnly_ = program.batch && !program.readsDepth && program.attributesRead == 0 && program.derivativesOf < 0 &&
                   earlyTests_ && program.discardTest.buffer == nullptr && (!testsDepth || depthRunAccepts_);
   // Tested without writing: the buffer is the shader's to read (const in the program).
@@ -51,6 +52,7 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   const bool discardEarly = discard.buffer != nullptr && program.pure && !program.writesDepth;
   discardBuffer_ = discardEarly ? const_cast<DepthBuffer*>(discard.buffer) : nullptr;
   discardBatchTest_ = discardEarly ? depthBatchTest(discard.buffer->format(), discard.func, false) : nullptr;
+  skipsWindowDepth_ = program.batch && !program.readsDepth && earlyTests_ && discard.buffer == nullptr;
   // Only the attributes the shader reads are interpolated (FragmentProgram::attributesRead).
   size_t n = size_t(geometry ? geometry->attributeCount : 0);
   if (program.attributesRead >= 0) n = std::min(n, size_t(program.attributesRead));
@@ -166,42 +168,82 @@ void FragmentStage::fragment(int x, int y) {
   process(in, z, b);
 }
 
+void FragmentStage::beginTile(const PixelRect& tile) {
+  if (tile.y1 - tile.y0 > kMaxTileRows) throw std::logic_error("FragmentStage::beginTile: a tile taller than kMaxTileRows");
+  tile_ = tile;
+  std::fill(std::begin(rowRangesKnown_), std::end(rowRangesKnown_), uint64_t(0));
+  rangeVerdict_ = drawRangeVerdict();
+}
+
+// The stored ranges hold while nothing writes depth: a draw that tests early or rejects early
+// (depthRunRejects_ set) without writing depth, in a stage that knows its tile.
+DepthRangeVerdict FragmentStage::drawRangeVerdict() const {
+  if (!depthRunRejects_ || state_.depth.writeMask || tile_.x1 <= tile_.x0) return nullptr;
+  return depthRangeVerdict(fb_.depth->format(), state_.depth.func);
+}
+
+const StoredDepthRange& FragmentStage::rowDepthRange(int y) {
+  const int r = y - tile_.y0;
+  uint64_t& known = rowRangesKnown_[r / 64];
+  if (!(known >> (r % 64) & 1)) {
+    rowRanges_[r] = storedDepthRange(*fb_.depth, tile_.x0, y, tile_.x1 - tile_.x0);
+    known |= uint64_t(1) << (r % 64);
+  }
+  return rowRanges_[r];
+}
+
+RunVerdict FragmentStage::runVerdict(int y, int start, int n, double zLow, double zHigh, bool checkRuns, bool& read) {
+  if (rangeVerdict_) {
+    const RunVerdict v = rangeVerdict_(rowDepthRange(y), zLow, zHigh);
+    if (v != RunVerdict::Undecided) return v;
+  }
+  if (!checkRuns) return RunVerdict::Undecided;
+  if (depthRunRejects_ && depthRunRejects_(*fb_.depth, start, y, n, zLow, zHigh)) return read = true, RunVerdict::AllFail;
+  if (depthRunAccepts_ && depthRunAccepts_(*fb_.depth, start, y, n, zLow, zHigh)) return read = true, RunVerdict::AllPass;
+  return RunVerdict::Undecided;
+}
+
 void FragmentStage::span(int y, int x0, int x1) {
   if (interpolation_->degenerate) return;
-  prefetchDepthRow(y + 2, x0, x1);
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
-  if (positionOnly_) return positionSpan(y, yn, x0, x1);
-  // Runs of kRejectRun pixels that the depth test surely rejects (depth_bounds.h) are counted and
-  // skipped; the pixels between them go through spanBatch up to kBatch at a time.
-  if (!depthRunRejects_ || rejectSkip_ > 0) {
-    rejectSkip_ -= rejectSkip_ > 0;
-    for (int start = x0; start < x1; start += kBatch) spanBatch(y, yn, start, std::min(kBatch, x1 - start));
+  if (positionOnly_) {
+    prefetchDepthRow(y + 2, x0, x1);
+    return positionSpan(y, yn, x0, x1);
+  }
+  // Runs of kRejectRun pixels whose window z (depth_bounds.h) surely fails the depth test are
+  // counted and skipped; those whose window z surely passes it (a draw that tests early without
+  // writing depth) skip the per-fragment test; the rest are tested fragment by fragment. Each run
+  // is one batch (kRejectRun = kBatch). The row's stored range decides without reading the run's
+  // depths; where it cannot, the run's own depths are checked, unless backing off (below).
+  const bool checkRuns = (depthRunRejects_ || depthRunAccepts_) && rejectSkip_ == 0;
+  rejectSkip_ -= rejectSkip_ > 0;
+  if (!rangeVerdict_) prefetchDepthRow(y + 2, x0, x1);  // with ranges, decided runs read no depths
+  if (!rangeVerdict_ && !checkRuns) {
+    for (int start = x0; start < x1; start += kBatch) spanBatch(y, yn, start, std::min(kBatch, x1 - start), false);
     return;
   }
   depthBounds_.beginRow(yn);
-  bool rejected = false;
-  int pending = x0;  // the first pixel neither rejected nor batched yet
+  bool read = false;
   for (int start = x0; start < x1; start += kRejectRun) {
     const int n = std::min(kRejectRun, x1 - start);
     double zLow, zHigh;
     const double first = double(start) * ndcScaleX_ + ndcOffsetX_, last = double(start + n - 1) * ndcScaleX_ + ndcOffsetX_;
-    if (depthBounds_.bound(first, last, zLow, zHigh) && depthRunRejects_(*fb_.depth, start, y, n, zLow, zHigh)) {
-      if (pending < start) spanBatch(y, yn, pending, start - pending);
+    const RunVerdict v = depthBounds_.bound(first, last, zLow, zHigh) ? runVerdict(y, start, n, zLow, zHigh, checkRuns, read)
+                                                                       : RunVerdict::Undecided;
+    if (v == RunVerdict::AllFail) {
       counters_.rasterized += uint64_t(n);
       counters_.depthFailed += uint64_t(n);
-      pending = start + n;
-      rejected = true;
-    } else if (start + n - pending == kBatch) {
-      spanBatch(y, yn, pending, kBatch);
-      pending = start + n;
+    } else {
+      spanBatch(y, yn, start, n, v == RunVerdict::AllPass && earlyDepthTest_);
     }
   }
-  if (pending < x1) spanBatch(y, yn, pending, x1 - pending);
-  // Back off while a triangle's spans keep passing: skip the checks of its next 1, 3, 7, 15 spans.
-  // Where little is hidden (the accumulation passes in front of the opaque depth), a check per span
-  // cost dense's wsum accumulation 4–5 %; with the back-off it costs nothing measurable.
-  rejectBackoff_ = rejected ? 0 : std::min(kMaxRejectBackoff, 2 * rejectBackoff_ + 1);
-  rejectSkip_ = rejectBackoff_;
+  // Back off while a triangle's spans' own depths decide nothing: skip those checks for its next
+  // 1, 3, 7, 15 spans. Where nothing is decided (a surface crossing the stored depth), a check
+  // per span cost dense's wsum accumulation 4–5 %; with the back-off it costs nothing measurable.
+  if (checkRuns) {
+    rejectBackoff_ = read ? 0 : std::min(kMaxRejectBackoff, 2 * rejectBackoff_ + 1);
+    rejectSkip_ = rejectBackoff_;
+  }
 }
 
 // A run that provably passes (or a draw without a depth test) goes to the shader in batches of
@@ -211,34 +253,34 @@ void FragmentStage::positionSpan(int y, double yn, int x0, int x1) {
   // ALWAYS passes every z: no interval is needed (as without a test).
   const bool testsDepth = depthRunAccepts_ != nullptr && state_.depth.func != CompareFunc::Always;
   if (testsDepth) depthBounds_.beginRow(yn);
+  bool read = false;
   for (int start = x0; start < x1; start += kRejectRun) {
     const int n = std::min(kRejectRun, x1 - start);
     double zLow = 0.0, zHigh = 0.0;
     const double first = double(start) * ndcScaleX_ + ndcOffsetX_, last = double(start + n - 1) * ndcScaleX_ + ndcOffsetX_;
-    const bool bounded = testsDepth && depthBounds_.bound(first, last, zLow, zHigh);
-    if (!testsDepth || (bounded && depthRunAccepts_(*fb_.depth, start, y, n, zLow, zHigh))) {
+    const RunVerdict v = !testsDepth ? RunVerdict::AllPass
+                         : depthBounds_.bound(first, last, zLow, zHigh) ? runVerdict(y, start, n, zLow, zHigh, true, read)
+                                                                         : RunVerdict::Undecided;
+    if (v == RunVerdict::AllPass) {
       counters_.rasterized += uint64_t(n);
-      for (int b = start; b < start + n; b += kBatch) {
-        const int m = std::min(kBatch, start + n - b);
-        for (int i = 0; i < m; ++i) {
-          batchX_[i] = b + i;
-          batchZ_[i] = std::numeric_limits<double>::quiet_NaN();
-          batchDepth_[i] = batchViewDepth_[i] = std::numeric_limits<float>::quiet_NaN();
-        }
-        shadeAndBlendBatch(y, m);
+      for (int i = 0; i < n; ++i) {
+        batchX_[i] = start + i;
+        batchZ_[i] = std::numeric_limits<double>::quiet_NaN();
+        batchDepth_[i] = batchViewDepth_[i] = std::numeric_limits<float>::quiet_NaN();
       }
-    } else if (bounded && depthRunRejects_ && depthRunRejects_(*fb_.depth, start, y, n, zLow, zHigh)) {
+      shadeAndBlendBatch(y, n);
+    } else if (v == RunVerdict::AllFail) {
       counters_.rasterized += uint64_t(n);
       counters_.depthFailed += uint64_t(n);
     } else {
-      for (int b = start; b < start + n; b += kBatch) spanBatch(y, yn, b, std::min(kBatch, start + n - b));
+      spanBatch(y, yn, start, n, false);
     }
   }
 }
 
 // Pixels [start, start + n) of row y (NDC y `yn`), n ≤ kBatch: interpolation, the early depth
-// test, the shader and blending.
-void FragmentStage::spanBatch(int y, double yn, int start, int n) {
+// test (unless the run surely `passes` it), the shader and blending.
+void FragmentStage::spanBatch(int y, double yn, int start, int n, bool passes) {
   double w[kBatch], b0[kBatch], b1[kBatch], b2[kBatch], z[kBatch];
   // Four lanes at a time over the whole batch (lanes past n compute pixels beyond the span,
   // never used), with explicit vectors: left to itself the compiler used two. interpolate()'s
@@ -252,11 +294,13 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n) {
     std::memcpy(w + i, &lw, sizeof lw), std::memcpy(b0 + i, &l0, sizeof l0), std::memcpy(b1 + i, &l1, sizeof l1);
     std::memcpy(b2 + i, &l2, sizeof l2);
   }
+  const bool windowDepth = !(passes && skipsWindowDepth_);
   for (int i = 0; i < n; i += 4) {
-    lanes::d4 lw, l0, l1, l2, lz;
+    lanes::d4 lw, l0, l1, l2, lz = lanes::splat<lanes::d4>(std::numeric_limits<double>::quiet_NaN());
     std::memcpy(&lw, w + i, sizeof lw), std::memcpy(&l0, b0 + i, sizeof l0), std::memcpy(&l1, b1 + i, sizeof l1);
     std::memcpy(&l2, b2 + i, sizeof l2);
-    interpolateWindowDepth(lw, l0, l1, l2, lz);
+    if (windowDepth) interpolateWindowDepth(lw, l0, l1, l2, lz);
+    else interpolateBarycentrics(lw, l0, l1, l2);
     std::memcpy(b0 + i, &l0, sizeof l0), std::memcpy(b1 + i, &l1, sizeof l1), std::memcpy(b2 + i, &l2, sizeof l2);
     std::memcpy(z + i, &lz, sizeof lz);
   }
@@ -264,7 +308,7 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n) {
   // Early depth tests for the whole batch first: where most fragments are hidden, they end here.
   int alive[kBatch];
   int count = n;
-  if (earlyDepthTest_ || earlyReject_) {
+  if ((earlyDepthTest_ || earlyReject_) && !passes) {
     count = depthBatchTest_(*fb_.depth, start, y, z, n, alive);
     counters_.depthFailed += uint64_t(n - count);
   } else {
@@ -280,7 +324,7 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n) {
       for (int j = 0; j < n; j += 4) {
         lanes::d4 lz, lw;
         std::memcpy(&lz, z + j, sizeof lz), std::memcpy(&lw, w + j, sizeof lw);
-        const lanes::f4 fz = lanes::convert<lanes::f4>(lz), fw = lanes::convert<lanes::f4>(lw);
+        const lanes::f4 fz = lanes::convert<lanes::f4>(lz), fw = windowDepth ? lanes::convert<lanes::f4>(lw) : lanes::f4(fz);
         const lanes::i4 x = lanes::i4{0, 1, 2, 3} + (start + j);
         std::memcpy(batchDepth_ + j, &fz, sizeof fz), std::memcpy(batchViewDepth_ + j, &fw, sizeof fw);
         std::memcpy(batchX_ + j, &x, sizeof x);

@@ -41,6 +41,9 @@ class FragmentStage {
   // The next draw of a sequence with the same framebuffer and state (Renderer::drawSequence):
   // its program, geometry and id; the blenders and counters carry over.
   void beginDraw(const FragmentProgram& program, const Geometry* geometry, uint32_t drawId);
+  // The tile whose pixels this stage draws (Renderer::drawSequence), before its first span: the
+  // extent of its rows' stored depth ranges (rowDepthRange).
+  void beginTile(const PixelRect& tile);
   // Takes the triangle's interpolation set-up (M⁻¹, clip z: setup.h) and its vertices' attributes
   // before its fragments arrive.
   void beginTriangle(const SetupTriangle& triangle);
@@ -86,8 +89,17 @@ class FragmentStage {
   void positionSpan(int y, double yn, int x0, int x1);
   // The pixels [start, start + n) of row y at NDC y `yn`, n ≤ kBatch, through the batch path:
   // interpolation in lanes, the early depth test, then shadeAndBlendBatch (or the per-fragment
-  // shader and blendBatch).
-  void spanBatch(int y, double yn, int start, int n);
+  // shader and blendBatch). `passes`: the run surely passes the early depth test (span(): its
+  // window-z interval against depthRunAccepts_), which is then not run fragment by fragment.
+  void spanBatch(int y, double yn, int start, int n, bool passes);
+  // What the depth test gives every pixel of the run [start, start + n) of row y, whose window z
+  // lies in [zLow, zHigh]: the stored range of the tile's row (rowDepthRange) decides first, then,
+  // where `checkRuns`, the run's own stored depths (depthRunRejects_, depthRunAccepts_; `read`
+  // set when they decided).
+  RunVerdict runVerdict(int y, int start, int n, double zLow, double zHigh, bool checkRuns, bool& read);
+  // The stored depths of row y across the tile, summarised the first time a span of the row asks.
+  const StoredDepthRange& rowDepthRange(int y);
+  DepthRangeVerdict drawRangeVerdict() const;
   // Of the fragments alive[0, count) of the span's pixels [start, start + n) with window z `z`,
   // keeps those that pass the program's discardTest (in place, ascending) and returns how many;
   // the others count as shaded and discarded.
@@ -137,8 +149,13 @@ class FragmentStage {
   template <typename D>
   void interpolateWindowDepth(D w, D& b0, D& b1, D& b2, D& z) const {
     const double* clipZ = interpolation_->clipZ;
-    b0 = b0 * w, b1 = b1 * w, b2 = b2 * w;
+    interpolateBarycentrics(w, b0, b1, b2);
     z = 0.5 * ((b0 * clipZ[0] + b1 * clipZ[1] + b2 * clipZ[2]) / w) + 0.5;
+  }
+  // Its first half alone, b = k·w, where no one needs the window z (skipsWindowDepth_).
+  template <typename D>
+  void interpolateBarycentrics(D w, D& b0, D& b1, D& b2) const {
+    b0 = b0 * w, b1 = b1 * w, b2 = b2 * w;
   }
   // Blends `count` fragments of the batch target by target: outputs_'s fragment index[i] (i when
   // index is null: all of them) at x = xs[i] on row y.
@@ -169,6 +186,7 @@ class FragmentStage {
   // run splits the batch around it, and each batch has a cost of its own (dense's opaque frame:
   // 81–106 ms with runs of 16, 63–66 with one run per span).
   static constexpr int kRejectRun = 64;
+  static_assert(kRejectRun == kBatch, "span() takes each run as one batch");
 
   Framebuffer& fb_;
   const PipelineState& state_;
@@ -197,7 +215,20 @@ class FragmentStage {
   // (FragmentProgram::readsDepth): span() takes positionSpan(). depthRunAccepts_: the draw's
   // test of a run that surely passes, null where it tests no depth.
   bool positionOnly_ = false;
+  // A batch program that reads no depth (FragmentProgram::readsDepth), with early tests and no
+  // discard test of its own: a run that surely passes the depth test needs no window z, and its
+  // fragments reach the shader with NaN depths.
+  bool skipsWindowDepth_ = false;
   DepthRunAccepts depthRunAccepts_ = nullptr;
+  // Where the draw tests depth without writing it, the stored depths of the tile do not change
+  // during the draw sequence: each row's range (least and greatest) is read once and decides
+  // whole runs against their window-z interval without reading their depths again (a GPU's
+  // hierarchical depth test). Null otherwise, and for stages without a tile.
+  DepthRangeVerdict rangeVerdict_ = nullptr;
+  PixelRect tile_{0, 0, 0, 0};
+  static constexpr int kMaxTileRows = 256;  // Renderer's largest tile size
+  StoredDepthRange rowRanges_[kMaxTileRows];
+  uint64_t rowRangesKnown_[kMaxTileRows / 64] = {};
   static constexpr int kMaxRejectBackoff = 15;
   int rejectBackoff_ = 0, rejectSkip_ = 0;  // spans of the current triangle to take without the check
   unsigned boundTargets_ = 0;

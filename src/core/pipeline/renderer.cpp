@@ -244,8 +244,12 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
       for (size_t d = 0; d < draws.size(); ++d) {
         const detail::BinnedTriangles& b = bins[d];
         if (b.tileStart[tile] == b.tileStart[tile + 1]) continue;
-        if (!stage) stage.emplace(fb, state, draws[d].program, draws[d].geometry, viewportRect(context), draws[d].drawId);
-        else stage->beginDraw(draws[d].program, draws[d].geometry, draws[d].drawId);
+        if (!stage) {
+          stage.emplace(fb, state, draws[d].program, draws[d].geometry, viewportRect(context), draws[d].drawId);
+          stage->beginTile(grid.tileRect(int(tile)));
+        } else {
+          stage->beginDraw(draws[d].program, draws[d].geometry, draws[d].drawId);
+        }
         detail::rasterizeTile(b, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, options_.perFragment,
                               *stage);
       }
