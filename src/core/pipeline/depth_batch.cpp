@@ -76,12 +76,19 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
 // [zLow, zHigh]: the depth codes are monotone in z, so the bound's code nearest to the other
 // result stands for all (zLow's for less and lequal when rejecting, zHigh's when accepting, and
 // the reverse for greater and gequal). ALWAYS passes everything.
+// The code that stands for every window z in [zLow, zHigh] when asking whether all give the
+// result `Passes`: the one nearest to the other result (runAll, rangeVerdict).
+template <DepthFormat Format, CompareFunc Func, bool Passes>
+uint32_t standingCode(double zLow, double zHigh) {
+  constexpr bool nearer = Func == CompareFunc::Less || Func == CompareFunc::LEqual;
+  return encodeDepthAs<Format>(nearer != Passes ? zLow : zHigh);
+}
+
 template <DepthFormat Format, CompareFunc Func, bool Passes>
 bool runAll(const DepthBuffer& depth, int x, int y, int n, double zLow, double zHigh) {
   using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
   if constexpr (Func == CompareFunc::Always) return Passes;
-  constexpr bool nearer = Func == CompareFunc::Less || Func == CompareFunc::LEqual;
-  const uint32_t code = encodeDepthAs<Format>(nearer != Passes ? zLow : zHigh);
+  const uint32_t code = standingCode<Format, Func, Passes>(zLow, zHigh);
   const Word* row = static_cast<const Word*>(depth.texel(x, y));
   const lanes::u4 codes = lanes::u4{} + code;
   const lanes::i4 wanted = Passes ? lanes::i4{} - 1 : lanes::i4{};
@@ -103,11 +110,13 @@ template <DepthFormat Format, CompareFunc Func>
 RunVerdict rangeVerdict(const StoredDepthRange& range, double zLow, double zHigh) {
   if (!range.ordered) return RunVerdict::Undecided;
   if constexpr (Func == CompareFunc::Always) return RunVerdict::AllPass;
+  // Against the stored value nearest to the other result too: the least for less and lequal
+  // when all pass, the greatest when all fail, and the reverse for greater and gequal.
   constexpr bool nearer = Func == CompareFunc::Less || Func == CompareFunc::LEqual;
-  const uint32_t farthest = encodeDepthAs<Format>(nearer ? zHigh : zLow);
-  if (depthTestPassesAs<Func, Format>(farthest, nearer ? range.least : range.greatest)) return RunVerdict::AllPass;
-  const uint32_t nearest = encodeDepthAs<Format>(nearer ? zLow : zHigh);
-  if (!depthTestPassesAs<Func, Format>(nearest, nearer ? range.greatest : range.least)) return RunVerdict::AllFail;
+  const uint32_t passing = standingCode<Format, Func, true>(zLow, zHigh);
+  if (depthTestPassesAs<Func, Format>(passing, nearer ? range.least : range.greatest)) return RunVerdict::AllPass;
+  const uint32_t failing = standingCode<Format, Func, false>(zLow, zHigh);
+  if (!depthTestPassesAs<Func, Format>(failing, nearer ? range.greatest : range.least)) return RunVerdict::AllFail;
   return RunVerdict::Undecided;
 }
 
