@@ -153,19 +153,98 @@ TEST_CASE("det math: the batched log gives detLog's bits in every lane", "[detma
   CHECK(different == 0);
 }
 
+TEST_CASE("det math: the batched float log gives float(detLog) in every lane", "[detmath]") {
+  // detLogFloatBatch decides most lanes from a table and a short series and an error bound, the
+  // rest through detLog: every lane must equal float(detLog(x)), bit for bit, in batches of any
+  // length and for detLogFloat (one argument). Besides random arguments, the special ones, the
+  // reduction's edges (√½, the table's rounding ties m = (j + ½)/128), and arguments whose
+  // logarithm lies within a few double ulps of a float's rounding boundary: there the bound cannot
+  // decide, and a lane that guessed would be wrong about half the time.
+  test::BitStream rng(97);
+  std::vector<double> x;
+  for (const double special : {0.0, -0.0, 1.0, 2.0, 0.5, 0.70710678118654752440, std::nextafter(0.70710678118654752440, 0.0),
+                               std::nextafter(0.70710678118654752440, 1.0), 1.0 - 0x1p-20, 1.0 - 0x1p-53, 1.0 + 0x1p-52,
+                               DBL_MIN, std::nextafter(DBL_MIN, 0.0), DBL_TRUE_MIN, DBL_MAX, -1.0, double(NAN),
+                               double(INFINITY), -double(INFINITY)})
+    x.push_back(special);
+  for (int j = 90; j <= 182; ++j)
+    for (const int e : {-3, 0, 5})
+      for (const double m : {(j + 0.5) / 128.0, std::nextafter((j + 0.5) / 128.0, 0.0), std::nextafter((j + 0.5) / 128.0, 2.0)})
+        x.push_back(std::ldexp(m, e));
+  for (int i = 0; i < 200000; ++i)
+    x.push_back(i % 2 ? double(rng.uniform(0.0f, 1.0f)) : std::ldexp(double(rng.uniform(0.5f, 1.0f)), int(rng.next() % 400) - 200));
+  int boundaries = 0;
+  for (int i = 0; i < 20000; ++i) {
+    // A random float f among the logarithms of normal doubles, the midpoint to its successor,
+    // and arguments around exp(midpoint).
+    const float f = rng.uniform(-700.0f, 700.0f) * (i % 3 == 0 ? 1e-4f : 1.0f);
+    const double mid = (double(f) + double(std::nextafter(f, INFINITY))) / 2.0;
+    double a = std::exp(mid);
+    if (!(a > DBL_MIN && a < DBL_MAX)) continue;
+    a = std::nextafter(a, 0.0);
+    for (int step = 0; step < 3; ++step, a = std::nextafter(a, INFINITY)) x.push_back(a);
+    ++boundaries;
+  }
+  std::vector<float> batched(x.size()), chunked(x.size());
+  methods::detLogFloatBatch(x.data(), batched.data(), int(x.size()));
+  for (size_t start = 0; start < x.size(); start += 13)  // batches of 13: partial groups of lanes
+    methods::detLogFloatBatch(x.data() + start, chunked.data() + start, int(std::min<size_t>(13, x.size() - start)));
+  size_t different = 0, ambiguous = 0;
+  double worst = 0;  // |detLogFast − detLog| / |detLog|: the bound assumes at most 2^-44
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double l = methods::detLog(x[i]);
+    const float want = float(l), one = methods::detLogFloat(x[i]);
+    different += std::memcmp(&want, &batched[i], sizeof(float)) != 0;
+    different += std::memcmp(&want, &chunked[i], sizeof(float)) != 0;
+    different += std::memcmp(&want, &one, sizeof(float)) != 0;
+    if (x[i] >= DBL_MIN && x[i] <= DBL_MAX && l != 0.0)
+      worst = std::max(worst, std::fabs(methods::detLogFast(x[i]) - l) / std::fabs(l));
+    ambiguous += std::isfinite(l) && float(l * (1 - 0x1p-40)) != float(l * (1 + 0x1p-40));
+  }
+  INFO(ambiguous << " arguments need detLog itself; worst relative difference " << worst);
+  CHECK(different == 0);
+  CHECK(worst <= 0x1p-46);  // the analysis's bound (det_math.h, detLogFastLanes)
+  CHECK(boundaries > 19000);
+  CHECK(ambiguous > 10000);  // the boundary arguments reach the fallback
+}
+
+TEST_CASE("det math: the fast exp's and log's tables against long double", "[detmath]") {
+  // detExpFastLanes's 2^(j/128) and detLogFastLanes's ln(j/128) and 1/c, summed from series at
+  // compile time: their error bounds (2^-50) enter the batches' analyses.
+  double worstExp = 0, worstLn = 0;
+  for (size_t j = 0; j < methods::kExp2Table.size(); ++j) {
+    const long double want = std::exp2((long double)j / 128.0L);
+    worstExp = std::max(worstExp, double(std::fabs((long double)methods::kExp2Table[j] - want) / want));
+  }
+  for (size_t j = 90; j <= 182; ++j) {
+    const long double c = (long double)j / 128.0L, want = std::log(c);
+    if (j == 128) CHECK(methods::kLogTables.lnC[j] == 0.0);
+    else worstLn = std::max(worstLn, double(std::fabs((long double)methods::kLogTables.lnC[j] - want) / std::fabs(want)));
+    CHECK(methods::kLogTables.inverseC[j] == 1.0 / (double(j) / 128.0));
+  }
+  INFO("worst relative error: 2^(j/128) " << worstExp << ", ln c " << worstLn);
+  CHECK(worstExp <= 0x1p-50);
+  CHECK(worstLn <= 0x1p-50);
+}
+
 TEST_CASE("det math: a batch of one repeated argument gives detLog's bits in every lane", "[detmath]") {
-  // detLogBatch takes detLog once for a batch whose arguments are one bit pattern (a material's
-  // constant alpha); batches that differ in one place only, anywhere, must not take that path.
+  // detLogBatch (detLogFloatBatch) takes detLog (detLogFloat) once for a batch whose arguments are
+  // one bit pattern (a material's constant alpha); batches that differ in one place only,
+  // anywhere, must not take that path.
   size_t different = 0, cases = 0;
   for (const double value : {0.25, 0.886, 1.0 - 0x1p-20, 0.0, -0.0, 1e-310, -1.0, double(NAN), double(INFINITY)})
     for (int n : {2, 3, 4, 15, 16, 17, 63, 64})
       for (int odd = -1; odd < n; ++odd) {  // −1: every argument the same
         std::vector<double> x(static_cast<size_t>(n), value), out(static_cast<size_t>(n));
         if (odd >= 0) x[size_t(odd)] = value == 0.25 ? 0.5 : 0.25;
+        std::vector<float> outFloat(static_cast<size_t>(n));
         methods::detLogBatch(x.data(), out.data(), n);
+        methods::detLogFloatBatch(x.data(), outFloat.data(), n);
         for (int i = 0; i < n; ++i) {
           const double want = methods::detLog(x[size_t(i)]);
+          const float wantFloat = float(want);
           different += std::memcmp(&want, &out[size_t(i)], sizeof(double)) != 0;
+          different += std::memcmp(&wantFloat, &outFloat[size_t(i)], sizeof(float)) != 0;
         }
         ++cases;
       }

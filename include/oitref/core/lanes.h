@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
+#include <utility>
 
 namespace oitref::lanes {
 
@@ -63,6 +65,23 @@ template <typename M>
 inline M negate(M m) {
   if constexpr (isVector<M>) return ~m;
   else return !m;
+}
+
+// The lanes of V loaded one element at a time, put together in registers. For memory written one
+// element at a time just before: a vector load that spans several narrower stores still in
+// flight cannot take their data (no store forwarding) and waits until they retire, which costs
+// more than the loads. The empty asm keeps the compiler from merging the loads into a vector load.
+template <typename V, typename T>
+inline V loadEachLane(const T* p) {
+  auto lane = [p](size_t i) {
+    T x;
+    std::memcpy(&x, p + i, sizeof x);  // (not p[i]: GCC then warns of lanes past a count it cannot bound)
+#if defined(__x86_64__)
+    asm("" : "+x"(x));
+#endif
+    return x;
+  };
+  return [&]<size_t... L>(std::index_sequence<L...>) { return V{lane(L)...}; }(std::make_index_sequence<sizeof(V) / sizeof(T)>());
 }
 
 }  // namespace oitref::lanes

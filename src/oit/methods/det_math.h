@@ -5,10 +5,13 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+
+#include "oitref/core/lanes.h"
 
 namespace oitref::methods {
 
@@ -48,85 +51,148 @@ inline double detExp(double x) {
   return e;
 }
 
-// Four groups of four lanes from x[0…lanes), lanes ≤ 16, the rest `fill`: whole vectors where
-// the groups are full (built lane by lane in memory, each vector load waited on the narrower
-// stores before it: no store forwarding).
+// Four groups of four lanes from x[0…lanes), lanes ≤ 16, the rest `fill`. The callers fill x a
+// double at a time just before, so each lane is loaded on its own (lanes::loadEachLane).
 template <typename V>
 inline void loadLanes(const double* x, int lanes, double fill, V (&v)[4]) {
-  if (lanes == 16) {
-    std::memcpy(v, x, sizeof v);
+  double padded[16];
+  if (lanes < 16) {
+    for (int i = 0; i < 16; ++i) padded[i] = i < lanes ? x[i] : fill;
+    x = padded;
+  }
+  for (int g = 0; g < 4; ++g) v[g] = lanes::loadEachLane<V>(x + 4 * g);
+}
+
+// A float from a double approximation y of a value v known to satisfy |v − y| ≤ 2^−44·|y|: where
+// the interval y·(1 ± 2^−40) rounds to one float, that float is float(v) (rounding is monotone,
+// and the interval holds v with a margin of 16). Lanes where it does not (v within 2^−40 of a
+// float's rounding boundary: about one in 10^4) and lanes not `regular` get `decided` 0.
+constexpr double kUndecidedBelow = 1.0 - 0x1p-40, kUndecidedAbove = 1.0 + 0x1p-40;
+template <typename V, typename L>
+inline void floatIfDecided(V y, L regular, float* out, int32_t* decided) {
+  typedef float v4f __attribute__((vector_size(16)));
+  typedef int32_t v4i __attribute__((vector_size(16)));
+  const v4f lo = __builtin_convertvector(y * kUndecidedBelow, v4f);
+  const v4f hi = __builtin_convertvector(y * kUndecidedAbove, v4f);
+  const v4i same = ((v4i)lo == (v4i)hi) & __builtin_convertvector(regular, v4i);
+  std::memcpy(out, &lo, sizeof lo);
+  std::memcpy(decided, &same, sizeof same);
+}
+
+// Lanes of a vector of doubles, or a scalar double (then K, the matching integer lanes, is int64_t).
+template <typename D>
+inline constexpr int kLanesOf = int(sizeof(D) / sizeof(double));
+// nearbyint(v) for |v| < 2^51, round half to even: (v + 1.5·2^52) − 1.5·2^52 in the default
+// rounding mode; the integer itself is in the low bits of the sum (`bits`).
+template <typename D, typename K>
+inline D nearbyintLanes(D v, K& bits) {
+  constexpr double kRound = 6755399441055744.0;  // 1.5·2^52
+  const D shifted = v + kRound;
+  if constexpr (kLanesOf<D> == 1) bits = std::bit_cast<int64_t>(shifted) - std::bit_cast<int64_t>(kRound);
+  else bits = (K)shifted - (K)(D{} + kRound);
+  return shifted - kRound;
+}
+template <typename D, typename K>
+inline D laneLookup(const double* table, K index) {
+  if constexpr (kLanesOf<D> == 1) {
+    return table[index];
+  } else {
+    D v;
+    for (int l = 0; l < kLanesOf<D>; ++l) v[l] = table[index[l]];
+    return v;
+  }
+}
+// 2^e for −1022 ≤ e ≤ 1023, built in the exponent bits.
+template <typename D, typename K>
+inline D twoTo(K e) {
+  if constexpr (kLanesOf<D> == 1) return std::bit_cast<double>(uint64_t(e + 1023) << 52);
+  else return (D)((e + 1023) << 52);
+}
+
+// The `lanes` results of a batch's 16 lanes: result[i] where decided[i], else exact(i). One
+// store when all sixteen are decided (nearly always).
+template <typename Exact>
+inline void storeDecided(const float* result, const int32_t* decided, int lanes, float* out, Exact exact) {
+  typedef int32_t v4i __attribute__((vector_size(16)));
+  v4i all;
+  std::memcpy(&all, decided, sizeof all);
+  for (int g = 1; g < 4; ++g) {
+    v4i d;
+    std::memcpy(&d, decided + 4 * g, sizeof d);
+    all &= d;
+  }
+  if (lanes == 16 && (all[0] & all[1] & all[2] & all[3])) {
+    std::memcpy(out, result, 16 * sizeof(float));
     return;
   }
-  double padded[16];
-  for (int i = 0; i < 16; ++i) padded[i] = i < lanes ? x[i] : fill;
-  std::memcpy(v, padded, sizeof v);
+  for (int i = 0; i < lanes; ++i) out[i] = decided[i] ? result[i] : exact(i);
 }
 
-// The polynomial of detExpFloatBatch: Σ r^m / m! for m ≤ 13 in Horner form, with coefficients
-// 1/m! computed as 1/(m−1)! / m (within 13 ulps), on one value or on lanes.
-template <typename D>
-inline D detExpTaylor13(D r) {
-  constexpr int kDegree = 13;
-  constexpr auto kCoefficients = [] {
-    std::array<double, kDegree + 1> c{};
-    c[0] = 1.0;
-    for (int m = 1; m <= kDegree; ++m) c[size_t(m)] = c[size_t(m - 1)] / m;
-    return c;
-  }();
-  D q = D{} + kCoefficients[kDegree];
-  for (int m = kDegree - 1; m >= 0; --m) q = q * r + kCoefficients[size_t(m)];
-  return q;
+// 2^(j/128) for j < 128: e^(j·ln2/128) by its Taylor series in double, summed at compile time
+// (within 2^−50 relative; the tests check it against exp2l).
+inline constexpr std::array<double, 128> kExp2Table = [] {
+  std::array<double, 128> t{};
+  for (int j = 0; j < 128; ++j) {
+    const double a = j * (kLn2Hi + kLn2Lo) / 128.0;
+    double term = 1.0, sum = 1.0;
+    for (int m = 1; m <= 30; ++m) term = term * a / m, sum += term;
+    t[size_t(j)] = sum;
+  }
+  return t;
+}();
+// detExpFloatBatch's approximation of e^x for |x| ≤ 700: x = (128·K + j)·ln2/128 + r with
+// |r| ≤ ln2/256 (a little more where the product x·128/ln2 rounded: the bound allows 0.0028), then
+// 2^K·2^(j/128)·(1 + r + r²/2 + r³/6 + r⁴/24). Its error: the polynomial's tail below 2^−49
+// relative, the table's 2^−50, r's rounding (ln2/128 in two parts; the high part's 32 bits times
+// k, below 2^17, are exact) and the roundings of Horner's steps and the products below 2^−50
+// together: within 2^−47 of e^x, so with detExp's own few ulps inside floatIfDecided's 2^−44.
+// The result is normal for |x| ≤ 700, so 2^K is exact.
+// In two steps, so that a batch's groups of lanes can run each step side by side: the reduction
+// (r, the table's 2^(j/128) and 2^K) and the polynomial.
+template <typename D, typename K>
+struct ExpReduced {
+  D r, scale;
+};
+template <typename D, typename K>
+inline ExpReduced<D, K> detExpReduce(D x) {
+  K k;
+  const D kd = nearbyintLanes(x * (kLog2E * 128.0), k);
+  return {(x - kd * (kLn2Hi / 128.0)) - kd * (kLn2Lo / 128.0), laneLookup<D>(kExp2Table.data(), k & 127) * twoTo<D>(k >> 7)};
 }
-// detExp's reduction and the polynomial, for |x| ≤ 700: what each lane of detExpFloatBatch
-// computes before its rounding test (the tests check it against detExp).
-inline double detExpFast(double x) {
-  const double k = std::nearbyint(x * kLog2E);
-  return std::ldexp(detExpTaylor13(detExpRemainder(x, k)), int(k));
+template <typename D, typename K>
+inline D detExpFinish(const ExpReduced<D, K>& t) {
+  const D r = t.r;
+  return (1.0 + r * (1.0 + r * (0.5 + r * (1.0 / 6.0 + r * (1.0 / 24.0))))) * t.scale;
 }
+template <typename D, typename K>
+inline D detExpFastLanes(D x) {
+  return detExpFinish(detExpReduce<D, K>(x));
+}
+inline double detExpFast(double x) { return detExpFastLanes<double, int64_t>(x); }
 
 // float(detExp(x)) for n arguments, what MBOIT's and MT's weights take, without detExp's 16
-// divisions where they cannot change the float. Each lane computes detExpFast(x): detExp's k and r
-// (nearbyint(v) for |v| < 2^51 as (v + 1.5·2^52) − 1.5·2^52 in the default rounding mode, round
-// half to even), detExpTaylor13(r), scaled by 2^k (exact: the result is normal for |x| ≤ 700).
-// That value and detExp's are both within 200 double ulps of 2^k·e^r for the shared r (Horner's
-// rounding bound: γ_48·e^(2|r|) for detExp's three roundings a step, γ_27·e^(2|r|) plus the
-// coefficients' 13 ulps here, |r| ≤ ln2/2 + 2^−40; the truncated tails are below 2^−56). So where
-// the interval of ±2^−40 relative around the fast value rounds to one float, that float is
-// float(detExp(x)) (rounding is monotone). Elsewhere — a value within 2^−40 of a float's rounding
-// boundary, about one in 30,000 — and for x outside [−700, 700] or NaN, the lane takes detExp
-// itself. Four groups of four lanes side by side, so that their chains of multiply-adds overlap.
+// divisions where they cannot change the float: detExpFastLanes in lanes, then floatIfDecided;
+// detExp itself for the undecided lanes and for x outside [−700, 700] or NaN. Four groups of four
+// lanes side by side, so that their chains of multiply-adds overlap.
 inline void detExpFloatBatch(const double* x, float* out, int n) {
   typedef double v4d __attribute__((vector_size(32)));
   typedef int64_t v4l __attribute__((vector_size(32)));
-  typedef float v4f __attribute__((vector_size(16)));
-  typedef int32_t v4i __attribute__((vector_size(16)));
-  constexpr double kRound = 6755399441055744.0;  // 1.5·2^52
   constexpr int kGroups = 4;
   for (int start = 0; start < n; start += 4 * kGroups) {
     const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
-    v4d v[kGroups], r[kGroups], q[kGroups];
-    v4l kBits[kGroups], regular[kGroups];
+    v4d v[kGroups];
     loadLanes(x + start, lanes, 0.0, v);
+    float result[4 * kGroups];
+    int32_t decided[4 * kGroups];
+    v4l regular[kGroups];
+    ExpReduced<v4d, v4l> reduced[kGroups];
     for (int g = 0; g < kGroups; ++g) {
       regular[g] = (v[g] == v[g]) & (v[g] <= 700.0) & (v[g] >= -700.0);
-      const v4d inRange = regular[g] ? v[g] : v4d{};
-      const v4d shifted = inRange * kLog2E + kRound;
-      const v4d k = shifted - kRound;
-      kBits[g] = (v4l)shifted - (v4l)(v4d{} + kRound);
-      r[g] = detExpRemainder(inRange, k);
+      reduced[g] = detExpReduce<v4d, v4l>(regular[g] ? v[g] : v4d{});
     }
-    for (int g = 0; g < kGroups; ++g) q[g] = detExpTaylor13(r[g]);  // inlined: the groups' chains interleave
-    float result[4 * kGroups];
-    int decided[4 * kGroups];
-    for (int g = 0; g < kGroups; ++g) {
-      const v4d y = q[g] * (v4d)((kBits[g] + 1023) << 52);
-      const v4f lo = __builtin_convertvector(y * (1.0 - 0x1p-40), v4f);
-      const v4f hi = __builtin_convertvector(y * (1.0 + 0x1p-40), v4f);
-      const v4i same = ((v4i)lo == (v4i)hi) & __builtin_convertvector(regular[g], v4i);
-      std::memcpy(result + 4 * g, &lo, sizeof lo);
-      std::memcpy(decided + 4 * g, &same, sizeof same);
-    }
-    for (int i = 0; i < lanes; ++i) out[start + i] = decided[i] ? result[i] : float(detExp(x[start + i]));
+    for (int g = 0; g < kGroups; ++g)
+      floatIfDecided(detExpFinish(reduced[g]), regular[g], result + 4 * g, decided + 4 * g);
+    storeDecided(result, decided, lanes, out + start, [&](int i) { return float(detExp(x[start + i])); });
   }
 }
 
@@ -169,13 +235,28 @@ inline double detLog(double x) {
   return true;
 }
 
+// detLog's reduction on four lanes: x = m·2^e with m in [√½, √2), frexp built from the bits
+// (x = f·2^(E − 1023) with f in [1, 2) gives frexp's m = f/2 in [0.5, 1), the mantissa under the
+// biased exponent 1022, and exponent E − 1022, exact; the exponent as a double by the 2^52 trick,
+// exact below 2^52). True in the lanes of normal positive arguments; the others reduce 1.
+template <typename V, typename L = int64_t __attribute__((vector_size(32)))>
+inline L logReduceLanes(V x, V& m, V& e) {
+  constexpr double kMinNormal = 2.2250738585072014e-308, kTwo52 = 4503599627370496.0;
+  const L regular = (x >= kMinNormal) & (x <= 1.7976931348623157e308);  // false for NaN
+  const L bits = (L)(regular ? x : V{} + 1.0);
+  m = (V)((bits & 0x000fffffffffffffLL) | (int64_t(1022) << 52));
+  e = (V)(((bits >> 52) & 0x7ff) | (L)(V{} + kTwo52)) - kTwo52 - 1022.0;
+  const L low = m < 0.70710678118654752440;
+  m = low ? m * 2.0 : m;
+  e = low ? e - 1.0 : e;
+  return regular;
+}
+
 // detLog of n arguments in vector lanes, each lane taking detLog's operations in its order (so
 // the same bits). Four groups of four lanes at a time, so that their chains of 17 dependent
 // multiply-adds overlap (one group's chain alone left the core waiting). Normal positive
-// arguments are reduced in the lanes, frexp built from the bits: x = f·2^(E − 1023) with
-// f in [1, 2) gives frexp's m = f/2 in [0.5, 1) (the mantissa under the biased exponent 1022) and
-// exponent E − 1022, exact, and the exponent as a double by the 2^52 trick (exact below 2^52).
-// Zero, subnormal, negative, infinite and NaN arguments take detLogReduce one at a time.
+// arguments are reduced in the lanes (logReduceLanes); zero, subnormal, negative, infinite and NaN
+// arguments take detLogReduce one at a time.
 //
 // A batch whose arguments are all one value (one bit pattern: a material's constant alpha, say)
 // takes detLog once; a pure function of the bits, so the same bits as each alone.
@@ -188,22 +269,15 @@ inline void detLogBatch(const double* x, double* out, int n) {
     return;
   }
   constexpr int kGroups = 4;
-  constexpr double kMinNormal = 2.2250738585072014e-308, kTwo52 = 4503599627370496.0;
   for (int start = 0; start < n; start += 4 * kGroups) {
     const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
     v4d v[kGroups], s[kGroups], e[kGroups], r[kGroups];
     v4l regular[kGroups];
     loadLanes(x + start, lanes, 1.0, v);  // lanes past n: any regular value
     for (int g = 0; g < kGroups; ++g) {
-      regular[g] = (v[g] >= kMinNormal) & (v[g] <= 1.7976931348623157e308);  // false for NaN
-      const v4l bits = (v4l)(regular[g] ? v[g] : v4d{} + 1.0);
-      v4d m = (v4d)((bits & 0x000fffffffffffffLL) | (int64_t(1022) << 52));
-      v4d exponent = (v4d)(((bits >> 52) & 0x7ff) | (v4l)(v4d{} + kTwo52)) - kTwo52 - 1022.0;
-      const v4l low = m < 0.70710678118654752440;
-      m = low ? m * 2.0 : m;
-      exponent = low ? exponent - 1.0 : exponent;
+      v4d m;
+      regular[g] = logReduceLanes(v[g], m, e[g]);
       s[g] = (m - 1.0) / (m + 1.0);
-      e[g] = exponent;
     }
     for (int g = 0; g < kGroups; ++g) r[g] = detLogSeries(s[g], e[g]);  // inlined: the groups' chains interleave
     for (int i = 0; i < lanes; ++i) {
@@ -215,6 +289,98 @@ inline void detLogBatch(const double* x, double* out, int n) {
         out[start + i] = detLogReduce(x[start + i], si, ei, special) ? detLogSeries(si, ei) : special;
       }
     }
+  }
+}
+
+// ln c and 1/c for c = j/128, j from 90 to 182 (the rest unused): ln c = 2·atanh((c − 1)/(c + 1))
+// by its series in double at compile time (within 2^−50 of |ln c|; the tests check both against
+// long double).
+struct LogTables {
+  std::array<double, 183> lnC{}, inverseC{};
+};
+inline constexpr LogTables kLogTables = [] {
+  LogTables t;
+  for (size_t j = 90; j <= 182; ++j) {
+    const double c = double(j) / 128.0, s = (c - 1.0) / (c + 1.0), s2 = s * s;
+    double series = 0.0;
+    for (int k = 41; k >= 1; k -= 2) series = 1.0 / k + s2 * series;
+    t.lnC[j] = 2.0 * s * series;
+    t.inverseC[j] = 1.0 / c;
+  }
+  return t;
+}();
+// detLogFloatBatch's approximation of ln(m·2^e) for m in [√½, √2) (logReduceLanes): c =
+// nearbyint(128·m)/128, so m − c is exact (Sterbenz) with |m − c| ≤ 2^−8; r = (m − c)·(1/c),
+// |r| < 0.0056, and ln m = ln c + ln(1 + r), ln(1 + r) to r⁶/6. The tail is below 2^−47 of |ln m|
+// (|ln m| ≥ 2^−8.1 where c ≠ 1; where c = 1 it is r⁶/7 relative). ln c and ln(1 + r) cancel by at
+// most a factor 3.5, e·ln2 and ln m not at all (|ln m| ≤ ln2/2): with the table's error and the
+// roundings, within 2^−46 of ln x, so with detLog's own few ulps inside floatIfDecided's 2^−44.
+// In two steps, as detExpReduce/detExpFinish: r, ln c and e, then the polynomial and the sum.
+template <typename D>
+struct LogReduced {
+  D r, lnC, e;
+};
+template <typename D, typename K>
+inline LogReduced<D> detLogTableReduce(D m, D e) {
+  K j;
+  const D c = nearbyintLanes(m * 128.0, j) * (1.0 / 128.0);
+  return {(m - c) * laneLookup<D>(kLogTables.inverseC.data(), j), laneLookup<D>(kLogTables.lnC.data(), j), e};
+}
+template <typename D>
+inline D detLogTableFinish(const LogReduced<D>& t) {
+  const D r = t.r;
+  const D p = r * (1.0 + r * (-0.5 + r * (1.0 / 3.0 + r * (-0.25 + r * (0.2 + r * (-1.0 / 6.0))))));
+  return t.e * kLn2Hi + (t.lnC + (p + t.e * kLn2Lo));
+}
+template <typename D, typename K>
+inline D detLogFastLanes(D m, D e) {
+  return detLogTableFinish(detLogTableReduce<D, K>(m, e));
+}
+// For one normal positive x (the tests).
+inline double detLogFast(double x) {
+  int exponent = 0;
+  double m = std::frexp(x, &exponent);
+  if (m < 0.70710678118654752440) m *= 2.0, --exponent;
+  return detLogFastLanes<double, int64_t>(m, double(exponent));
+}
+
+// float(detLog(x)) for one x, as a lane of detLogFloatBatch computes it (a batch of one value).
+inline float detLogFloat(double x) {
+  if (!(x >= 2.2250738585072014e-308 && x <= 1.7976931348623157e308)) return float(detLog(x));
+  const double y = detLogFast(x);
+  const float lo = float(y * kUndecidedBelow), hi = float(y * kUndecidedAbove);
+  return std::bit_cast<uint32_t>(lo) == std::bit_cast<uint32_t>(hi) ? lo : float(detLog(x));
+}
+
+// float(detLog(x)) for n arguments (MBOIT's and MT's optical depths), without detLog's series of
+// 17 steps where it cannot change the float: detLogFastLanes, then floatIfDecided; detLog itself
+// for the undecided lanes and the arguments that are not normal positive numbers. A batch of
+// one bit pattern (a material's constant alpha: most of them) takes detLogFloat once.
+inline void detLogFloatBatch(const double* x, float* out, int n) {
+  typedef double v4d __attribute__((vector_size(32)));
+  typedef int64_t v4l __attribute__((vector_size(32)));
+  if (n > 1 && allSameBits(x, n)) {
+    const float r = detLogFloat(x[0]);
+    for (int i = 0; i < n; ++i) out[i] = r;
+    return;
+  }
+  constexpr int kGroups = 4;
+  for (int start = 0; start < n; start += 4 * kGroups) {
+    const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
+    v4d v[kGroups];
+    loadLanes(x + start, lanes, 1.0, v);
+    float result[4 * kGroups];
+    int32_t decided[4 * kGroups];
+    v4l regular[kGroups];
+    LogReduced<v4d> reduced[kGroups];
+    for (int g = 0; g < kGroups; ++g) {
+      v4d m, e;
+      regular[g] = logReduceLanes(v[g], m, e);
+      reduced[g] = detLogTableReduce<v4d, v4l>(m, e);
+    }
+    for (int g = 0; g < kGroups; ++g)
+      floatIfDecided(detLogTableFinish(reduced[g]), regular[g], result + 4 * g, decided + 4 * g);
+    storeDecided(result, decided, lanes, out + start, [&](int i) { return float(detLog(x[start + i])); });
   }
 }
 

@@ -107,14 +107,16 @@ class Mboit final : public OpaqueFirstMethod {
       if (!logWarp) return linearWarp(in, i);
       return float(2.0 * detLog(double(in.viewDepth[i]) / double(cam.nearPlane)) / logRange - 1.0);
     };
-    // A = −ln(1 − α), α clamped below 1; the logarithms of a batch together (detLogBatch: the
-    // same bits as one at a time).
+    // A = float(−detLog(1 − α)), α clamped below 1; the logarithms of a batch together
+    // (detLogFloatBatch: float(detLog) for each; float(−v) is −float(v)).
     auto logArgument = [](float alpha) { return 1.0 - double(std::min(alpha, 1.0f - 0x1p-20f)); };
     auto absorbancesOf = [&](const glm::vec4* colors, int count, float* a) {
-      double x[kShaderBatch], ln[kShaderBatch];
-      for (int i = 0; i < count; ++i) x[i] = logArgument(colors[i].a);
-      detLogBatch(x, ln, count);
-      for (int i = 0; i < count; ++i) a[i] = float(-ln[i]);
+      double x[kShaderBatch];
+      float ln[kShaderBatch];
+      x[0] = logArgument(colors[0].a);  // a batch is never empty; said so, GCC sees x written
+      for (int i = 1; i < count; ++i) x[i] = logArgument(colors[i].a);
+      detLogFloatBatch(x, ln, count);
+      for (int i = 0; i < count; ++i) a[i] = -ln[i];
     };
     const MomentSet set = set_;
     const int reals = set.reals();
@@ -206,22 +208,19 @@ class Mboit final : public OpaqueFirstMethod {
     // reconstruct (used[j] their places in the batch), the others (clear) weighted 1; the
     // exponentials of a batch together (detExpFloatBatch: float(detExp) for each, its series'
     // divisions only where they can change the float).
-    auto weightsFrom = [&fallbacks, saturate](int count, const bool* clear, int n, const int* used, const float* b0s,
+    auto weightsFrom = [&fallbacks, saturate](int count, int n, const int* used, const float* b0s,
                                               const float* absorbance, const bool* fellBack, float* w) {
       double exponent[kShaderBatch];
       float weight[kShaderBatch];
-      for (int i = 0; i < count; ++i) exponent[i] = 0.0;
       uint64_t fell = 0;  // one add per batch, not per fragment that fell back
       for (int j = 0; j < n; ++j) {
         fell += fellBack[j];
-        exponent[used[j]] = -double(b0s[j]) * double(absorbance[j]);
+        exponent[j] = -double(b0s[j]) * double(absorbance[j]);
       }
       if (fell) fallbacks.add(fell);
-      detExpFloatBatch(exponent, weight, count);
-      for (int i = 0; i < count; ++i) {
-        const float wi = weight[i];
-        w[i] = clear[i] ? 1.0f : saturate ? std::clamp(wi, 0.0f, 1.0f) : wi;
-      }
+      if (n > 0) detExpFloatBatch(exponent, weight, n);  // (n > 0: GCC then sees exponent written)
+      for (int i = 0; i < count; ++i) w[i] = 1.0f;
+      for (int j = 0; j < n; ++j) w[used[j]] = saturate ? std::clamp(weight[j], 0.0f, 1.0f) : weight[j];
     };
     // A pixel whose b0 is below this has only nearly clear layers: weight 1.
     constexpr float kClearB0 = 0.00100050033f;
@@ -235,23 +234,21 @@ class Mboit final : public OpaqueFirstMethod {
         momentImages[0]->fetchRow(in.y, in.x, count, lo);
         int used[kShaderBatch], n = 0;
         float moments[kShaderBatch * 4], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
-        bool clear[kShaderBatch], fellBack[kShaderBatch];
+        bool fellBack[kShaderBatch];
         for (int i = 0; i < count; ++i) {
           const float b0 = b0Texels[i].r;
-          clear[i] = b0 < kClearB0;
           depths[n] = linearWarp(in, i);
           b0s[n] = b0;
           used[n] = i;
-          n += !clear[i];
+          n += !(b0 < kClearB0);
         }
         normaliseFourMoments(lo, used, b0s, n, moments);
         powerMomentAbsorbanceBatch(4, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
-        weightsFrom(count, clear, n, used, b0s, absorbance, fellBack, w);
+        weightsFrom(count, n, used, b0s, absorbance, fellBack, w);
       });
     } else {
       accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
         const int count = in.count;
-        bool clear[kShaderBatch];
         // The fragments that reconstruct (not clear), their normalised moments and depths side by
         // side, so that the absorbance batches can run them in lanes.
         int used[kShaderBatch], n = 0;
@@ -264,8 +261,7 @@ class Mboit final : public OpaqueFirstMethod {
         if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
         for (int i = 0; i < count; ++i) {
           const float b0 = b0Texels[i].r;
-          clear[i] = b0 < kClearB0;
-          if (clear[i]) continue;
+          if (b0 < kClearB0) continue;
           float* b = moments + size_t(n) * size_t(reals);
           if (quantised) {
             float stored[8] = {};
@@ -284,7 +280,7 @@ class Mboit final : public OpaqueFirstMethod {
           trigMomentAbsorbanceBatch(set.count, moments, depths, n, bias, overestimation, zone, absorbance, fellBack);
         else
           powerMomentAbsorbanceBatch(set.count, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
-        weightsFrom(count, clear, n, used, b0s, absorbance, fellBack, w);
+        weightsFrom(count, n, used, b0s, absorbance, fellBack, w);
       });
     }
 

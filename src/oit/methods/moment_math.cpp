@@ -262,7 +262,7 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
                              __builtin_shufflevector(t1, t3, 2, 3, 10, 11, 6, 7, 14, 15)};
       v8f m[4], zl;
       for (int k = 0; k < 4; ++k) m[k] = biasedMoment(column[k], bias, biasVector[k]);
-      std::memcpy(&zl, depths, sizeof zl);
+      zl = lanes::loadEachLane<v8f>(depths);  // written a float at a time just before
       v8i ok;
       const v8f a = fourPowerMomentAbsorbance(m, zl, overestimation, ok);
       const v8i use = ok & finiteF(a);

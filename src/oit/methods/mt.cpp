@@ -56,17 +56,19 @@ class Mt final : public OpaqueFirstMethod {
     momentFb.color[0] = &opticalDepth;
     momentFb.color[1] = &moments;
     momentFb.depth = &t.depth();
-    // The optical depths −ln(1 − α) of a batch together (detLogBatch: the same bits as detLog).
+    // The optical depths float(−ln(1 − α)) of a batch together (detLogFloatBatch: float(detLog)
+    // for each; float(−v) is −float(v)).
     run.transparentBatchPass("moments", momentFb, transparentState(profile, additiveBlend()),
                              [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput& out) {
                                const int count = in.count;
-                               double x[kShaderBatch], ln[kShaderBatch];
-                               float depth[kShaderBatch];
+                               if (count <= 0) return;  // never (FragmentBatch); said so, GCC sees x written
+                               double x[kShaderBatch];
+                               float ln[kShaderBatch], depth[kShaderBatch];
                                for (int i = 0; i < count; ++i) x[i] = 1.0 - double(std::min(c[i].a, 1.0f - 0.5f / 256.0f));
-                               detLogBatch(x, ln, count);
+                               detLogFloatBatch(x, ln, count);
                                unitDepths(in, depth);
                                for (int i = 0; i < count; ++i) {
-                                 const float a = float(-ln[i]);
+                                 const float a = -ln[i];
                                  const float u = depth[i], u2 = u * u;
                                  out.write(i, 0, glm::vec4(a));
                                  out.write(i, 1, glm::vec4(u, u2, u2 * u, u2 * u2) * a);
