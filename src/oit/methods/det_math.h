@@ -336,12 +336,13 @@ template <typename D, typename K>
 inline D detLogFastLanes(D m, D e) {
   return detLogTableFinish(detLogTableReduce<D, K>(m, e));
 }
-// For one normal positive x (the tests).
+// For one normal positive x (detLogFloat, the tests).
 inline double detLogFast(double x) {
-  int exponent = 0;
-  double m = std::frexp(x, &exponent);
-  if (m < 0.70710678118654752440) m *= 2.0, --exponent;
-  return detLogFastLanes<double, int64_t>(m, double(exponent));
+  const uint64_t bits = std::bit_cast<uint64_t>(x);  // as logReduceLanes: frexp from the bits
+  double m = std::bit_cast<double>((bits & 0x000fffffffffffffull) | uint64_t(1022) << 52);
+  double e = double(int((bits >> 52) & 0x7ff) - 1022);
+  if (m < 0.70710678118654752440) m *= 2.0, e -= 1.0;
+  return detLogFastLanes<double, int64_t>(m, e);
 }
 
 // float(detLog(x)) for one x, as a lane of detLogFloatBatch computes it (a batch of one value).
