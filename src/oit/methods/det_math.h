@@ -63,10 +63,14 @@ inline void loadLanes(const double* x, int lanes, double fill, V (&v)[4]) {
   for (int g = 0; g < 4; ++g) v[g] = lanes::loadEachLane<V>(x + 4 * g);
 }
 
-// A float from a double approximation y of a value v known to satisfy |v − y| ≤ 2^−44·|y|: where
+// A float from a double approximation y of a value v known to satisfy |v − y| ≤ 2^−43·|y|: where
 // the interval y·(1 ± 2^−40) rounds to one float, that float is float(v) (rounding is monotone,
-// and the interval holds v with a margin of 16). Lanes where it does not (v within 2^−40 of a
-// float's rounding boundary: about one in 10^4) and lanes not `regular` get `decided` 0.
+// and the interval holds v with a margin of 8). Lanes where it does not (v within 2^−40 of a
+// float's rounding boundary: about one in 10^4) and lanes not `regular` get `decided` 0. The
+// callers' v and y each lie within 2^−44 of the true value: detExp within 200 double ulps of e^x
+// (Horner's rounding bound for its three roundings a step, γ_48·e^(2|r|), |r| ≤ ln2/2 + 2^−40;
+// its tail below 2^−56), detLog within a few ulps (its series' terms shrink by s² ≤ 0.03; the
+// tests measure 4e−16 against libm), and the fast approximations as their comments say.
 constexpr double kUndecidedBelow = 1.0 - 0x1p-40, kUndecidedAbove = 1.0 + 0x1p-40;
 template <typename V, typename L>
 inline void floatIfDecided(V y, L regular, float* out, int32_t* decided) {
@@ -145,22 +149,22 @@ inline constexpr std::array<double, 128> kExp2Table = [] {
 // 2^K·2^(j/128)·(1 + r + r²/2 + r³/6 + r⁴/24). Its error: the polynomial's tail below 2^−49
 // relative, the table's 2^−50, r's rounding (ln2/128 in two parts; the high part's 32 bits times
 // k, below 2^17, are exact) and the roundings of Horner's steps and the products below 2^−50
-// together: within 2^−47 of e^x, so with detExp's own few ulps inside floatIfDecided's 2^−44.
+// together: within 2^−47 of e^x (floatIfDecided's premise).
 // The result is normal for |x| ≤ 700, so 2^K is exact.
 // In two steps, so that a batch's groups of lanes can run each step side by side: the reduction
 // (r, the table's 2^(j/128) and 2^K) and the polynomial.
-template <typename D, typename K>
+template <typename D>
 struct ExpReduced {
   D r, scale;
 };
 template <typename D, typename K>
-inline ExpReduced<D, K> detExpReduce(D x) {
+inline ExpReduced<D> detExpReduce(D x) {
   K k;
   const D kd = nearbyintLanes(x * (kLog2E * 128.0), k);
   return {(x - kd * (kLn2Hi / 128.0)) - kd * (kLn2Lo / 128.0), laneLookup<D>(kExp2Table.data(), k & 127) * twoTo<D>(k >> 7)};
 }
-template <typename D, typename K>
-inline D detExpFinish(const ExpReduced<D, K>& t) {
+template <typename D>
+inline D detExpFinish(const ExpReduced<D>& t) {
   const D r = t.r;
   return (1.0 + r * (1.0 + r * (0.5 + r * (1.0 / 6.0 + r * (1.0 / 24.0))))) * t.scale;
 }
@@ -185,7 +189,7 @@ inline void detExpFloatBatch(const double* x, float* out, int n) {
     float result[4 * kGroups];
     int32_t decided[4 * kGroups];
     v4l regular[kGroups];
-    ExpReduced<v4d, v4l> reduced[kGroups];
+    ExpReduced<v4d> reduced[kGroups];
     for (int g = 0; g < kGroups; ++g) {
       regular[g] = (v[g] == v[g]) & (v[g] <= 700.0) & (v[g] >= -700.0);
       reduced[g] = detExpReduce<v4d, v4l>(regular[g] ? v[g] : v4d{});
@@ -314,7 +318,7 @@ inline constexpr LogTables kLogTables = [] {
 // |r| < 0.0056, and ln m = ln c + ln(1 + r), ln(1 + r) to r⁶/6. The tail is below 2^−47 of |ln m|
 // (|ln m| ≥ 2^−8.1 where c ≠ 1; where c = 1 it is r⁶/7 relative). ln c and ln(1 + r) cancel by at
 // most a factor 3.5, e·ln2 and ln m not at all (|ln m| ≤ ln2/2): with the table's error and the
-// roundings, within 2^−46 of ln x, so with detLog's own few ulps inside floatIfDecided's 2^−44.
+// roundings, within 2^−46 of ln x (floatIfDecided's premise).
 // In two steps, as detExpReduce/detExpFinish: r, ln c and e, then the polynomial and the sum.
 template <typename D>
 struct LogReduced {
