@@ -239,6 +239,16 @@ inline double detLog(double x) {
   return true;
 }
 
+// Where x[0…n), n > 1, are one bit pattern: out[i] = f(x[0]) for each (f a pure function of the
+// bits, so the same as each alone), and true.
+template <typename T, typename F>
+inline bool fillIfOneValue(const double* x, int n, T* out, F f) {
+  if (n <= 1 || !allSameBits(x, n)) return false;
+  const T r = f(x[0]);
+  for (int i = 0; i < n; ++i) out[i] = r;
+  return true;
+}
+
 // detLog's reduction on four lanes: x = m·2^e with m in [√½, √2), frexp built from the bits
 // (x = f·2^(E − 1023) with f in [1, 2) gives frexp's m = f/2 in [0.5, 1), the mantissa under the
 // biased exponent 1022, and exponent E − 1022, exact; the exponent as a double by the 2^52 trick,
@@ -267,11 +277,7 @@ inline L logReduceLanes(V x, V& m, V& e) {
 inline void detLogBatch(const double* x, double* out, int n) {
   typedef double v4d __attribute__((vector_size(32)));
   typedef int64_t v4l __attribute__((vector_size(32)));
-  if (n > 1 && allSameBits(x, n)) {
-    const double r = detLog(x[0]);
-    for (int i = 0; i < n; ++i) out[i] = r;
-    return;
-  }
+  if (fillIfOneValue(x, n, out, detLog)) return;
   constexpr int kGroups = 4;
   for (int start = 0; start < n; start += 4 * kGroups) {
     const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
@@ -364,11 +370,7 @@ inline float detLogFloat(double x) {
 inline void detLogFloatBatch(const double* x, float* out, int n) {
   typedef double v4d __attribute__((vector_size(32)));
   typedef int64_t v4l __attribute__((vector_size(32)));
-  if (n > 1 && allSameBits(x, n)) {
-    const float r = detLogFloat(x[0]);
-    for (int i = 0; i < n; ++i) out[i] = r;
-    return;
-  }
+  if (fillIfOneValue(x, n, out, detLogFloat)) return;
   constexpr int kGroups = 4;
   for (int start = 0; start < n; start += 4 * kGroups) {
     const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
