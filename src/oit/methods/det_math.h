@@ -132,6 +132,30 @@ inline void storeDecided(const float* result, const int32_t* decided, int lanes,
   for (int i = 0; i < lanes; ++i) out[i] = decided[i] ? result[i] : exact(i);
 }
 
+// float(f(x)) for n arguments, sixteen lanes at a time in four groups of four (the lanes past n
+// hold `fill`): reduce(v, regular) gives a group's reduced lanes and marks those it can take,
+// finish(reduced) the approximation floatIfDecided decides, exact(x) float(f(x)) itself for the
+// lanes left undecided. All groups are reduced before any is finished, so that their chains
+// overlap.
+typedef double v4d __attribute__((vector_size(32)));
+typedef int64_t v4l __attribute__((vector_size(32)));
+template <typename Reduce, typename Finish, typename Exact>
+inline void decidedFloatBatch(const double* x, float* out, int n, double fill, Reduce reduce, Finish finish, Exact exact) {
+  constexpr int kGroups = 4;
+  for (int start = 0; start < n; start += 4 * kGroups) {
+    const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
+    v4d v[kGroups];
+    loadLanes(x + start, lanes, fill, v);
+    v4l regular[kGroups];
+    decltype(reduce(v[0], regular[0])) reduced[kGroups];
+    for (int g = 0; g < kGroups; ++g) reduced[g] = reduce(v[g], regular[g]);
+    float result[4 * kGroups];
+    int32_t decided[4 * kGroups];
+    for (int g = 0; g < kGroups; ++g) floatIfDecided(finish(reduced[g]), regular[g], result + 4 * g, decided + 4 * g);
+    storeDecided(result, decided, lanes, out + start, [&](int i) { return exact(x[start + i]); });
+  }
+}
+
 // 2^(j/128) for j < 128: e^(j·ln2/128) by its Taylor series in double, summed at compile time
 // (within 2^−50 relative; the tests check it against exp2l).
 inline constexpr std::array<double, 128> kExp2Table = [] {
@@ -179,25 +203,13 @@ inline double detExpFast(double x) { return detExpFastLanes<double, int64_t>(x);
 // detExp itself for the undecided lanes and for x outside [−700, 700] or NaN. Four groups of four
 // lanes side by side, so that their chains of multiply-adds overlap.
 inline void detExpFloatBatch(const double* x, float* out, int n) {
-  typedef double v4d __attribute__((vector_size(32)));
-  typedef int64_t v4l __attribute__((vector_size(32)));
-  constexpr int kGroups = 4;
-  for (int start = 0; start < n; start += 4 * kGroups) {
-    const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
-    v4d v[kGroups];
-    loadLanes(x + start, lanes, 0.0, v);
-    float result[4 * kGroups];
-    int32_t decided[4 * kGroups];
-    v4l regular[kGroups];
-    ExpReduced<v4d> reduced[kGroups];
-    for (int g = 0; g < kGroups; ++g) {
-      regular[g] = (v[g] == v[g]) & (v[g] <= 700.0) & (v[g] >= -700.0);
-      reduced[g] = detExpReduce<v4d, v4l>(regular[g] ? v[g] : v4d{});
-    }
-    for (int g = 0; g < kGroups; ++g)
-      floatIfDecided(detExpFinish(reduced[g]), regular[g], result + 4 * g, decided + 4 * g);
-    storeDecided(result, decided, lanes, out + start, [&](int i) { return float(detExp(x[start + i])); });
-  }
+  decidedFloatBatch(
+      x, out, n, 0.0,
+      [](v4d v, v4l& regular) {
+        regular = (v == v) & (v <= 700.0) & (v >= -700.0);
+        return detExpReduce<v4d, v4l>(regular ? v : v4d{});
+      },
+      [](const ExpReduced<v4d>& t) { return detExpFinish(t); }, [](double a) { return float(detExp(a)); });
 }
 
 // ln x: x = m·2^e with m in [√½, √2), ln m = 2·atanh(s), s = (m − 1)/(m + 1), |s| ≤ 0.172,
@@ -275,8 +287,6 @@ inline L logReduceLanes(V x, V& m, V& e) {
 // A batch whose arguments are all one value (one bit pattern: a material's constant alpha, say)
 // takes detLog once; a pure function of the bits, so the same bits as each alone.
 inline void detLogBatch(const double* x, double* out, int n) {
-  typedef double v4d __attribute__((vector_size(32)));
-  typedef int64_t v4l __attribute__((vector_size(32)));
   if (fillIfOneValue(x, n, out, detLog)) return;
   constexpr int kGroups = 4;
   for (int start = 0; start < n; start += 4 * kGroups) {
@@ -368,27 +378,15 @@ inline float detLogFloat(double x) {
 // for the undecided lanes and the arguments that are not normal positive numbers. A batch of
 // one bit pattern (a material's constant alpha: most of them) takes detLogFloat once.
 inline void detLogFloatBatch(const double* x, float* out, int n) {
-  typedef double v4d __attribute__((vector_size(32)));
-  typedef int64_t v4l __attribute__((vector_size(32)));
   if (fillIfOneValue(x, n, out, detLogFloat)) return;
-  constexpr int kGroups = 4;
-  for (int start = 0; start < n; start += 4 * kGroups) {
-    const int lanes = n - start < 4 * kGroups ? n - start : 4 * kGroups;
-    v4d v[kGroups];
-    loadLanes(x + start, lanes, 1.0, v);
-    float result[4 * kGroups];
-    int32_t decided[4 * kGroups];
-    v4l regular[kGroups];
-    LogReduced<v4d> reduced[kGroups];
-    for (int g = 0; g < kGroups; ++g) {
-      v4d m, e;
-      regular[g] = logReduceLanes(v[g], m, e);
-      reduced[g] = detLogTableReduce<v4d, v4l>(m, e);
-    }
-    for (int g = 0; g < kGroups; ++g)
-      floatIfDecided(detLogTableFinish(reduced[g]), regular[g], result + 4 * g, decided + 4 * g);
-    storeDecided(result, decided, lanes, out + start, [&](int i) { return float(detLog(x[start + i])); });
-  }
+  decidedFloatBatch(
+      x, out, n, 1.0,
+      [](v4d v, v4l& regular) {
+        v4d m, e;
+        regular = logReduceLanes(v, m, e);
+        return detLogTableReduce<v4d, v4l>(m, e);
+      },
+      [](const LogReduced<v4d>& t) { return detLogTableFinish(t); }, [](double a) { return float(detLog(a)); });
 }
 
 // cos x and sin x for |x| ≤ 2^20: x = k·π/2 + r with |r| ≤ π/4 (π/2 in two parts, so r is
