@@ -51,6 +51,10 @@ inline double detExp(double x) {
   return e;
 }
 
+// Four lanes of doubles, and of their integer bits.
+typedef double v4d __attribute__((vector_size(32)));
+typedef int64_t v4l __attribute__((vector_size(32)));
+
 // Four groups of four lanes from x[0…lanes), lanes ≤ 16, the rest `fill`. The callers fill x a
 // double at a time just before, so each lane is loaded on its own (lanes::loadEachLane).
 template <typename V>
@@ -72,8 +76,7 @@ inline void loadLanes(const double* x, int lanes, double fill, V (&v)[4]) {
 // its tail below 2^−56), detLog within a few ulps (its series' terms shrink by s² ≤ 0.03; the
 // tests measure 4e−16 against libm), and the fast approximations as their comments say.
 constexpr double kUndecidedBelow = 1.0 - 0x1p-40, kUndecidedAbove = 1.0 + 0x1p-40;
-template <typename V, typename L>
-inline void floatIfDecided(V y, L regular, float* out, int32_t* decided) {
+inline void floatIfDecided(v4d y, v4l regular, float* out, int32_t* decided) {
   typedef float v4f __attribute__((vector_size(16)));
   typedef int32_t v4i __attribute__((vector_size(16)));
   const v4f lo = __builtin_convertvector(y * kUndecidedBelow, v4f);
@@ -137,8 +140,6 @@ inline void storeDecided(const float* result, const int32_t* decided, int lanes,
 // finish(reduced) the approximation floatIfDecided decides, exact(x) float(f(x)) itself for the
 // lanes left undecided. All groups are reduced before any is finished, so that their chains
 // overlap.
-typedef double v4d __attribute__((vector_size(32)));
-typedef int64_t v4l __attribute__((vector_size(32)));
 template <typename Reduce, typename Finish, typename Exact>
 inline void decidedFloatBatch(const double* x, float* out, int n, double fill, Reduce reduce, Finish finish, Exact exact) {
   constexpr int kGroups = 4;
