@@ -212,15 +212,17 @@ class Mboit final : public OpaqueFirstMethod {
                                               const float* absorbance, const bool* fellBack, float* w) {
       double exponent[kShaderBatch];
       float weight[kShaderBatch];
-      uint64_t fell = 0;  // one add per batch, not per fragment that fell back
-      for (int j = 0; j < n; ++j) {
-        fell += fellBack[j];
-        exponent[j] = -double(b0s[j]) * double(absorbance[j]);
-      }
+      // Each loop on its own, so that each runs in vector lanes (together, GCC ran them a
+      // fragment at a time).
+      for (int j = 0; j < n; ++j) exponent[j] = -double(b0s[j]) * double(absorbance[j]);
+      unsigned fell = 0;  // one add per batch, not per fragment that fell back
+      for (int j = 0; j < n; ++j) fell += fellBack[j];
       if (fell) fallbacks.add(fell);
       if (n > 0) detExpFloatBatch(exponent, weight, n);  // (n > 0: GCC then sees exponent written)
+      if (saturate)
+        for (int j = 0; j < n; ++j) weight[j] = std::clamp(weight[j], 0.0f, 1.0f);
       for (int i = 0; i < count; ++i) w[i] = 1.0f;
-      for (int j = 0; j < n; ++j) w[used[j]] = saturate ? std::clamp(weight[j], 0.0f, 1.0f) : weight[j];
+      for (int j = 0; j < n; ++j) w[used[j]] = weight[j];
     };
     // A pixel whose b0 is below this has only nearly clear layers: weight 1.
     constexpr float kClearB0 = 0.00100050033f;

@@ -268,7 +268,7 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
       const v8i use = ok & finiteF(a);
       const v8f result = selectF(use, a, splatF<v8f>(overestimation));
       std::memcpy(out, &result, sizeof result);
-      for (int l = 0; l < 8; ++l) fell[l] = use[l] == 0;
+      storeLaneFlags(~use, fell);
     };
     for (; i + 8 <= n; i += 8) eight(b + size_t(i) * 4, z + i, absorbance + i, fellBack + i);
     if (i < n) {
