@@ -83,3 +83,29 @@ TEST_CASE("depth order: keys with NaN take the scalar way", "[methods]") {
   order.sortScalar(list.data(), 50, scalar.data());
   CHECK(got == scalar);
 }
+
+TEST_CASE("depth order: two lists side by side give each list's own order", "[methods]") {
+  // sortPair inserts two lists' keys in one loop while both have keys, then the longer one's rest;
+  // either may run out of its budget (std::stable_sort finishes it) while the other goes on, and a
+  // list with NaN or of fewer than two fragments takes sort() alone.
+  test::BitStream rng(13);
+  methods::DepthOrder order;
+  const std::vector<uint32_t> lengths = {0u, 1u, 2u, 9u, 64u, 300u};
+  const std::vector<int> displacements = {1, 7, 12, 0, -1};
+  int pairs = 0;
+  for (uint32_t na : lengths)
+    for (uint32_t nb : lengths)
+      for (int da : displacements)
+        for (int db : displacements) {
+          std::vector<TransparentFragment> a = makeList(rng, na, 40, da), b = makeList(rng, nb, 3, db);
+          if (pairs % 7 == 3 && nb > 5) b[nb / 2].viewDepth = std::nanf("");
+          std::vector<uint32_t> gotA(na), gotB(nb), expectedB(nb);
+          order.sortPair(a.data(), na, gotA.data(), b.data(), nb, gotB.data());
+          order.sortScalar(b.data(), nb, expectedB.data());
+          INFO("lengths " << na << ", " << nb << "; displacements " << da << ", " << db);
+          REQUIRE(gotA == stableOrder(a));
+          REQUIRE(gotB == expectedB);
+          ++pairs;
+        }
+  CHECK(pairs == 6 * 6 * 5 * 5);
+}

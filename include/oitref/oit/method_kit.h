@@ -209,6 +209,14 @@ class PassRunner {
   // over each in result[0], result[1] (written with alpha 1), or false to keep both.
   using ShaderComposite = std::function<bool(const FragmentInput&, const glm::vec3 background[2], glm::vec3 result[2])>;
   void compositeOntoBackgrounds(FrameTargets& targets, const std::string& name, const ShaderComposite& resolve);
+  // The same over a batch of one row's pixels (FragmentBatch, in.count ≤ kShaderBatch), for a
+  // resolve that gains from seeing several pixels at once (the A-buffer sorts two pixels' lists
+  // side by side): resolve(in, background, result, resolved) gets pixel in.x[i]'s backgrounds in
+  // background[0][i], background[1][i], and sets result[0][i], result[1][i] and resolved[i]
+  // (false: keep both backgrounds).
+  using ShaderCompositeBatch = std::function<void(const FragmentBatch& in, const glm::vec3* const background[2],
+                                                  glm::vec3* const result[2], bool* resolved)>;
+  void compositeOntoBackgroundsBatch(FrameTargets& targets, const std::string& name, const ShaderCompositeBatch& resolve);
   // One full-screen pass; shader(const FragmentInput&, FragmentOutput&), compiled into a batch
   // program (programOf).
   template <typename Shader>

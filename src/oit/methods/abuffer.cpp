@@ -12,6 +12,7 @@
 #include <atomic>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include "methods/depth_order.h"
 #include "methods/fragment_bound.h"
@@ -150,19 +151,42 @@ class Abuffer final : public Method {
       }
     });
 
-    const bool useDouble = useDouble_;
-    run.compositeOntoBackgrounds(t, "sort+composite", [&](const FragmentInput& in, const glm::vec3 c0[2], glm::vec3 out[2]) {
-      const size_t p = size_t(in.y) * w + in.x;
-      const size_t n = count[p];
-      if (n == 0) return false;
-      // The stored lists stay in submission order for the result; the resolve sorts positions.
+    const auto composite = useDouble_ ? compositeBackToFront<double> : compositeBackToFront<float>;
+    run.compositeOntoBackgroundsBatch(t, "sort+composite", [&](const FragmentBatch& in, const glm::vec3* const background[2],
+                                                               glm::vec3* const result[2], bool* resolved) {
+      // The stored lists stay in submission order for the result; the resolve sorts positions,
+      // those of two pixels side by side (DepthOrder::sortPair: each insertion waits for the one
+      // before, and the second list's insertions fill that wait).
       thread_local DepthOrder depthOrder;
-      thread_local std::vector<uint32_t> order;
-      const StoredFragment* list = fragments.data() + start[p];
-      order.resize(n);
-      depthOrder.sort(list, uint32_t(n), order.data());
-      (useDouble ? compositeBackToFront<double> : compositeBackToFront<float>)(list, order.data(), n, c0, out);
-      return true;
+      thread_local std::vector<uint32_t> orders[2];
+      const size_t row = size_t(in.y) * w;
+      auto list = [&](int i) { return fragments.data() + start[row + size_t(in.x[i])]; };
+      auto length = [&](int i) { return count[row + size_t(in.x[i])]; };
+      auto resolveWith = [&](int i, const uint32_t* order) {
+        const glm::vec3 backgrounds[2] = {background[0][i], background[1][i]};
+        glm::vec3 out[2];
+        composite(list(i), order, length(i), backgrounds, out);
+        result[0][i] = out[0], result[1][i] = out[1];
+      };
+      int waiting = -1;  // a pixel whose list waits for a second one
+      for (int i = 0; i < in.count; ++i) {
+        resolved[i] = length(i) > 0;
+        if (!resolved[i]) continue;
+        if (waiting < 0) {
+          waiting = i;
+          continue;
+        }
+        const int first = std::exchange(waiting, -1);
+        orders[0].resize(length(first)), orders[1].resize(length(i));
+        depthOrder.sortPair(list(first), length(first), orders[0].data(), list(i), length(i), orders[1].data());
+        resolveWith(first, orders[0].data());
+        resolveWith(i, orders[1].data());
+      }
+      if (waiting >= 0) {
+        orders[0].resize(length(waiting));
+        depthOrder.sort(list(waiting), length(waiting), orders[0].data());
+        resolveWith(waiting, orders[0].data());
+      }
     });
 
     uint64_t covered = 0;

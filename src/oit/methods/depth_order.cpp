@@ -22,16 +22,23 @@ typedef int32_t i8 __attribute__((vector_size(32)));
 // Insertion over SoA keys with eight sentinel slots before position 0 (view and window −∞:
 // nothing comes before them). The last eight sorted keys stay in registers: for position i, A
 // holds positions i−8 … i−1 and B positions i−7 … i (the new key last); the new key goes c places
-// back, where c counts the lanes of A it comes before (a run at the end, A being sorted). Returns
-// false when the moves exceed the budget (the keys are then a stable partial result).
-[[gnu::target("avx2,popcnt")]] bool insertInLanes(float* v, float* w, uint32_t* ix, uint32_t n, size_t budget) {
+// back, where c counts the lanes of A it comes before (a run at the end, A being sorted). step(i)
+// returns false when the moves exceed the budget (the keys are then a stable partial result).
+// Each key's insertion waits for the one before (the registers): a chain of about ten cycles a
+// key, so two lists inserted side by side (sortPair) run in about the time of one.
+struct LaneInserter {
+  float *v, *w;
+  uint32_t* ix;
+  size_t budget, moves = 0;
   f8 rv, rw;
   i8 ri;
-  __builtin_memcpy(&rv, v - 8, 32);
-  __builtin_memcpy(&rw, w - 8, 32);
-  __builtin_memcpy(&ri, ix - 8, 32);
-  size_t moves = 0;
-  for (uint32_t i = 0; i < n; ++i) {
+  [[gnu::target("avx2,popcnt"), gnu::always_inline]] inline LaneInserter(float* v_, float* w_, uint32_t* ix_, size_t budget_)
+      : v(v_), w(w_), ix(ix_), budget(budget_) {
+    __builtin_memcpy(&rv, v - 8, 32);
+    __builtin_memcpy(&rw, w - 8, 32);
+    __builtin_memcpy(&ri, ix - 8, 32);
+  }
+  [[gnu::target("avx2,popcnt"), gnu::always_inline]] inline bool step(uint32_t i) {
     const float kv = v[i], kw = w[i];
     const f8 sv = f8{} + kv, sw = f8{} + kw;
     const i8 si = i8{} + int32_t(i);
@@ -45,11 +52,10 @@ typedef int32_t i8 __attribute__((vector_size(32)));
       for (; before(kv, kw, v[j - 1], w[j - 1]); --j) v[j] = v[j - 1], w[j] = w[j - 1], ix[j] = ix[j - 1];
       v[j] = kv, w[j] = kw, ix[j] = i;
       moves += size_t(int64_t(i) - j);
-      if (moves > budget) return false;
       __builtin_memcpy(&rv, v + int64_t(i) - 7, 32);
       __builtin_memcpy(&rw, w + int64_t(i) - 7, 32);
       __builtin_memcpy(&ri, ix + int64_t(i) - 7, 32);
-      continue;
+      return moves <= budget;
     }
     moves += size_t(c);
     // The lanes that move are isBefore itself (a run at the end); the new key goes to the lane
@@ -68,9 +74,34 @@ typedef int32_t i8 __attribute__((vector_size(32)));
     __builtin_memcpy(v + int64_t(i) - 7, &rv, 32);
     __builtin_memcpy(w + int64_t(i) - 7, &rw, 32);
     __builtin_memcpy(ix + int64_t(i) - 7, &ri, 32);
-    if (moves > budget) return false;
+    return moves <= budget;
   }
+};
+
+// Keys [from, n) of one inserter; false when it exceeds its budget.
+[[gnu::target("avx2,popcnt"), gnu::always_inline]] inline bool insertRest(LaneInserter& a, uint32_t from, uint32_t n) {
+  for (uint32_t i = from; i < n; ++i)
+    if (!a.step(i)) return false;
   return true;
+}
+
+// One list's keys (k.view etc. past their sentinels) sorted; false when it exceeds its budget.
+[[gnu::target("avx2,popcnt")]] bool insertInLanes(float* v, float* w, uint32_t* ix, uint32_t n) {
+  LaneInserter a(v, w, ix, moveBudget(n));
+  return insertRest(a, 0, n);
+}
+
+// Two lists' insertions side by side while both have keys (their chains overlap), then the
+// longer one's rest. ok[k]: list k stayed within its budget.
+[[gnu::target("avx2,popcnt")]] void insertTwoInLanes(float* va, float* wa, uint32_t* ia, uint32_t na, float* vb, float* wb,
+                                                     uint32_t* ib, uint32_t nb, bool ok[2]) {
+  LaneInserter a(va, wa, ia, moveBudget(na)), b(vb, wb, ib, moveBudget(nb));
+  const uint32_t both = std::min(na, nb);
+  uint32_t i = 0;
+  bool okA = true, okB = true;
+  for (; i < both && okA && okB; ++i) okA = a.step(i), okB = b.step(i);
+  ok[0] = okA && insertRest(a, i, na);
+  ok[1] = okB && insertRest(b, i, nb);
 }
 #endif
 
@@ -101,29 +132,66 @@ void DepthOrder::sortScalar(const TransparentFragment* list, uint32_t n, uint32_
   orderFromKeys(n, order, true);
 }
 
-void DepthOrder::sort(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+bool DepthOrder::laneKeys(int k, const TransparentFragment* list, uint32_t n) {
+  LaneKeys& keys = lanes_[k];
+  keys.view.resize(8 + size_t(n)), keys.window.resize(8 + size_t(n)), keys.index.resize(8 + size_t(n));
+  std::fill_n(keys.view.begin(), 8, -INFINITY), std::fill_n(keys.window.begin(), 8, -INFINITY);
+  std::fill_n(keys.index.begin(), 8, 0);
+  bool hasNan = false;
+  for (uint32_t i = 0; i < n; ++i) {
+    keys.view[8 + i] = list[i].viewDepth, keys.window[8 + i] = list[i].windowDepth, keys.index[8 + i] = i;
+    hasNan |= std::isnan(list[i].viewDepth) | std::isnan(list[i].windowDepth);
+  }
+  return !hasNan;
+}
+
+void DepthOrder::orderFromLaneKeys(int k, uint32_t n, uint32_t* order, bool sorted) {
+  const LaneKeys& keys = lanes_[k];
+  if (sorted) {
+    std::copy_n(keys.index.data() + 8, n, order);
+    return;
+  }
+  // Not nearly sorted: std::stable_sort finishes from the stable partial order.
+  keys_.resize(n);
+  for (uint32_t i = 0; i < n; ++i) keys_[i] = {keys.view[8 + i], keys.window[8 + i], keys.index[8 + i]};
+  orderFromKeys(n, order, false);
+}
+
+bool DepthOrder::lanesAvailable() {
 #if defined(__x86_64__)
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
-  if (avx2 && n > 1) {
-    view_.resize(8 + size_t(n)), window_.resize(8 + size_t(n)), index_.resize(8 + size_t(n));
-    std::fill_n(view_.begin(), 8, -INFINITY), std::fill_n(window_.begin(), 8, -INFINITY), std::fill_n(index_.begin(), 8, 0);
-    bool hasNan = false;
-    for (uint32_t i = 0; i < n; ++i) {
-      view_[8 + i] = list[i].viewDepth, window_[8 + i] = list[i].windowDepth, index_[8 + i] = i;
-      hasNan |= std::isnan(list[i].viewDepth) | std::isnan(list[i].windowDepth);
-    }
-    if (hasNan) return sortScalar(list, n, order);
-    if (insertInLanes(view_.data() + 8, window_.data() + 8, index_.data() + 8, n, moveBudget(n))) {
-      std::copy_n(index_.data() + 8, n, order);
-      return;
-    }
-    // Not nearly sorted: std::stable_sort finishes from the stable partial order.
-    keys_.resize(n);
-    for (uint32_t i = 0; i < n; ++i) keys_[i] = {view_[8 + i], window_[8 + i], index_[8 + i]};
-    return orderFromKeys(n, order, false);
+  return avx2;
+#else
+  return false;
+#endif
+}
+
+void DepthOrder::sort(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+#if defined(__x86_64__)
+  if (lanesAvailable() && n > 1) {
+    if (!laneKeys(0, list, n)) return sortScalar(list, n, order);
+    LaneKeys& k = lanes_[0];
+    return orderFromLaneKeys(0, n, order, insertInLanes(k.view.data() + 8, k.window.data() + 8, k.index.data() + 8, n));
   }
 #endif
   sortScalar(list, n, order);
+}
+
+void DepthOrder::sortPair(const TransparentFragment* listA, uint32_t na, uint32_t* orderA, const TransparentFragment* listB,
+                          uint32_t nb, uint32_t* orderB) {
+#if defined(__x86_64__)
+  if (lanesAvailable() && na > 1 && nb > 1 && laneKeys(0, listA, na) && laneKeys(1, listB, nb)) {
+    LaneKeys &a = lanes_[0], &b = lanes_[1];
+    bool ok[2];
+    insertTwoInLanes(a.view.data() + 8, a.window.data() + 8, a.index.data() + 8, na, b.view.data() + 8, b.window.data() + 8,
+                     b.index.data() + 8, nb, ok);
+    orderFromLaneKeys(0, na, orderA, ok[0]);
+    orderFromLaneKeys(1, nb, orderB, ok[1]);
+    return;
+  }
+#endif
+  sort(listA, na, orderA);
+  sort(listB, nb, orderB);
 }
 
 }  // namespace oitref::methods

@@ -24,6 +24,10 @@ class DepthOrder {
   // order[k] = the list position of the k-th of the n fragments front to back; order must hold n
   // entries.
   void sort(const TransparentFragment* list, uint32_t n, uint32_t* order);
+  // sort() of two lists at once (orderA, orderB: na and nb entries): the same orders, with the
+  // two insertions side by side.
+  void sortPair(const TransparentFragment* listA, uint32_t na, uint32_t* orderA, const TransparentFragment* listB,
+                uint32_t nb, uint32_t* orderB);
   // The same order the scalar way only (the portable build's; tests compare the two).
   void sortScalar(const TransparentFragment* list, uint32_t n, uint32_t* order);
 
@@ -34,9 +38,17 @@ class DepthOrder {
   };
   // order from keys_[0, n), after a stable sort of them unless `sorted`.
   void orderFromKeys(uint32_t n, uint32_t* order, bool sorted);
+  // A list's keys as lanes read them: eight sentinel slots, then the keys (laneKeys; false when
+  // one is NaN, which the lanes do not order). k: which of the two lists of sortPair.
+  struct LaneKeys {
+    std::vector<float> view, window;
+    std::vector<uint32_t> index;
+  };
+  static bool lanesAvailable();
+  bool laneKeys(int k, const TransparentFragment* list, uint32_t n);
+  void orderFromLaneKeys(int k, uint32_t n, uint32_t* order, bool sorted);
   std::vector<Key> keys_;
-  std::vector<float> view_, window_;
-  std::vector<uint32_t> index_;
+  LaneKeys lanes_[2];
 };
 
 }  // namespace oitref::methods

@@ -206,18 +206,41 @@ PipelineState PassRunner::compositeState() const {
 }
 
 void PassRunner::compositeOntoBackgrounds(FrameTargets& targets, const std::string& name, const ShaderComposite& resolve) {
+  compositeOntoBackgroundsBatch(targets, name, [&resolve](const FragmentBatch& in, const glm::vec3* const background[2],
+                                                          glm::vec3* const result[2], bool* resolved) {
+    for (int i = 0; i < in.count; ++i) {
+      const glm::vec3 pixelBackground[2] = {background[0][i], background[1][i]};
+      glm::vec3 pixelResult[2];
+      resolved[i] = resolve(in[i], pixelBackground, pixelResult);
+      result[0][i] = pixelResult[0], result[1][i] = pixelResult[1];
+    }
+  });
+}
+
+void PassRunner::compositeOntoBackgroundsBatch(FrameTargets& targets, const std::string& name,
+                                               const ShaderCompositeBatch& resolve) {
   Framebuffer out = targets.present(false);
   PipelineState plain;
   plain.profile = context_.profile;
   const Image& opaque = targets.opaque();
   const Image& analysis = targets.analysis();
-  fullscreenPass(name, out, plain, [&](const FragmentInput& in, FragmentOutput& o) {
-    const glm::vec3 background[2] = {glm::vec3(opaque.fetch(in.x, in.y)), glm::vec3(analysis.fetch(in.x, in.y))};
-    glm::vec3 result[2];
-    if (!resolve(in, background, result)) return;
-    o.write(0, glm::vec4(result[0], 1.0f));
-    o.write(1, glm::vec4(result[1], 1.0f));
-  });
+  fullscreenProgram(name, out, plain, programOfBatch([&](const FragmentBatch& in, FragmentBatchOutput& o) {
+    glm::vec4 texels[kShaderBatch];
+    glm::vec3 background[2][kShaderBatch], result[2][kShaderBatch];
+    bool resolved[kShaderBatch];
+    for (int t = 0; t < 2; ++t) {
+      (t == 0 ? opaque : analysis).fetchRow(in.y, in.x, in.count, texels);
+      for (int i = 0; i < in.count; ++i) background[t][i] = glm::vec3(texels[i]);
+    }
+    const glm::vec3* const backgrounds[2] = {background[0], background[1]};
+    glm::vec3* const results[2] = {result[0], result[1]};
+    resolve(in, backgrounds, results, resolved);
+    for (int i = 0; i < in.count; ++i)
+      if (resolved[i]) {
+        o.write(i, 0, glm::vec4(result[0][i], 1.0f));
+        o.write(i, 1, glm::vec4(result[1][i], 1.0f));
+      }
+  }));
 }
 
 BlendState overBlend() { return detail::states::kOver; }
