@@ -10,6 +10,7 @@
 // fragment shader are race-free and in submission order.
 #include <algorithm>
 #include <atomic>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
@@ -33,6 +34,14 @@ uint64_t nextFrameId() {
   return next.fetch_add(1, std::memory_order_relaxed);
 }
 
+// OVER of one layer onto what lies behind it: c·α + C·(1 − α), each operation rounded in V — per
+// channel (V = S = float or double) or per lane of a vector of floats (S = float).
+template <typename V, typename S>
+V over(V color, V alpha, V behind) {
+  const V front = color * alpha, under = behind * (S(1) - alpha);
+  return front + under;
+}
+
 // OVER back to front of the list's fragments in `order` (front to back), onto both backgrounds.
 template <typename Real>
 void compositeBackToFront(const StoredFragment* list, const uint32_t* order, size_t n, const glm::vec3 background[2],
@@ -44,12 +53,48 @@ void compositeBackToFront(const StoredFragment* list, const uint32_t* order, siz
     const glm::vec4& color = list[order[i]].color;
     const Real a = Real(color.a);
     for (int t = 0; t < 2; ++t)
-      for (int k = 0; k < 3; ++k) {
-        const Real front = Real(color[k]) * a, behind = c[t][k] * (Real(1) - a);
-        c[t][k] = front + behind;
-      }
+      for (int k = 0; k < 3; ++k) c[t][k] = over<Real, Real>(Real(color[k]), a, c[t][k]);
   }
   for (int t = 0; t < 2; ++t) result[t] = {float(c[t][0]), float(c[t][1]), float(c[t][2])};
+}
+
+// compositeBackToFront<float> with both backgrounds' channels in the lanes of one vector (r, g, b
+// of target 0 in lanes 0–2, of target 1 in lanes 4–6; lanes 3 and 7 compute α·α and are never
+// read): the same operations per channel, one vector operation for all six.
+class FloatLanesOver {
+ public:
+  explicit FloatLanesOver(const glm::vec3 background[2])
+      : c_{background[0].x, background[0].y, background[0].z, 0.0f, background[1].x, background[1].y, background[1].z, 0.0f} {}
+  void layer(const glm::vec4& color) {
+    v4 c;
+    std::memcpy(&c, &color, sizeof c);
+    const v8 both = __builtin_shufflevector(c, c, 0, 1, 2, 3, 0, 1, 2, 3), alpha = v8{} + color.a;
+    c_ = over<v8, float>(both, alpha, c_);
+  }
+  void finish(glm::vec3 result[2]) const {
+    result[0] = {c_[0], c_[1], c_[2]};
+    result[1] = {c_[4], c_[5], c_[6]};
+  }
+
+ private:
+  typedef float v4 __attribute__((vector_size(16)));
+  typedef float v8 __attribute__((vector_size(32)));
+  v8 c_;
+};
+
+// compositeBackToFront<float> of two lists, their layers side by side (each layer waits for the
+// one behind it; the other list's layers fill that wait): list A's back layers that B has no partner for
+// first, then B's, then both together.
+void compositePairBackToFront(const StoredFragment* listA, const uint32_t* orderA, size_t na, const glm::vec3 backgroundA[2],
+                              glm::vec3 resultA[2], const StoredFragment* listB, const uint32_t* orderB, size_t nb,
+                              const glm::vec3 backgroundB[2], glm::vec3 resultB[2]) {
+  FloatLanesOver a(backgroundA), b(backgroundB);
+  size_t i = na, j = nb;
+  for (; i > j; --i) a.layer(listA[orderA[i - 1]].color);
+  for (; j > i; --j) b.layer(listB[orderB[j - 1]].color);
+  for (; i > 0; --i, --j) a.layer(listA[orderA[i - 1]].color), b.layer(listB[orderB[j - 1]].color);
+  a.finish(resultA);
+  b.finish(resultB);
 }
 
 class Abuffer final : public Method {
@@ -151,23 +196,20 @@ class Abuffer final : public Method {
       }
     });
 
-    const auto composite = useDouble_ ? compositeBackToFront<double> : compositeBackToFront<float>;
+    const bool useDouble = useDouble_;
+    const auto composite = useDouble ? compositeBackToFront<double> : compositeBackToFront<float>;
     run.compositeOntoBackgroundsBatch(t, "sort+composite", [&](const FragmentBatch& in, const glm::vec3* const background[2],
                                                                glm::vec3* const result[2], bool* resolved) {
-      // The stored lists stay in submission order for the result; the resolve sorts positions,
-      // those of two pixels side by side (DepthOrder::sortPair: each insertion waits for the one
-      // before, and the second list's insertions fill that wait).
+      // The stored lists stay in submission order for the result; the resolve sorts positions.
+      // Two pixels at a time, side by side (DepthOrder::sortPair, compositePairBackToFront): each
+      // insertion and each layer waits for the one before, and the other pixel's work fills that wait.
       thread_local DepthOrder depthOrder;
       thread_local std::vector<uint32_t> orders[2];
       const size_t row = size_t(in.y) * w;
       auto list = [&](int i) { return fragments.data() + start[row + size_t(in.x[i])]; };
       auto length = [&](int i) { return count[row + size_t(in.x[i])]; };
-      auto resolveWith = [&](int i, const uint32_t* order) {
-        const glm::vec3 backgrounds[2] = {background[0][i], background[1][i]};
-        glm::vec3 out[2];
-        composite(list(i), order, length(i), backgrounds, out);
-        result[0][i] = out[0], result[1][i] = out[1];
-      };
+      auto backgrounds = [&](int i, glm::vec3 out[2]) { out[0] = background[0][i], out[1] = background[1][i]; };
+      auto store = [&](int i, const glm::vec3 out[2]) { result[0][i] = out[0], result[1][i] = out[1]; };
       int waiting = -1;  // a pixel whose list waits for a second one
       for (int i = 0; i < in.count; ++i) {
         resolved[i] = length(i) > 0;
@@ -179,13 +221,24 @@ class Abuffer final : public Method {
         const int first = std::exchange(waiting, -1);
         orders[0].resize(length(first)), orders[1].resize(length(i));
         depthOrder.sortPair(list(first), length(first), orders[0].data(), list(i), length(i), orders[1].data());
-        resolveWith(first, orders[0].data());
-        resolveWith(i, orders[1].data());
+        glm::vec3 under[2][2], out[2][2];
+        backgrounds(first, under[0]), backgrounds(i, under[1]);
+        if (useDouble) {
+          composite(list(first), orders[0].data(), length(first), under[0], out[0]);
+          composite(list(i), orders[1].data(), length(i), under[1], out[1]);
+        } else {
+          compositePairBackToFront(list(first), orders[0].data(), length(first), under[0], out[0], list(i), orders[1].data(),
+                                   length(i), under[1], out[1]);
+        }
+        store(first, out[0]), store(i, out[1]);
       }
       if (waiting >= 0) {
         orders[0].resize(length(waiting));
         depthOrder.sort(list(waiting), length(waiting), orders[0].data());
-        resolveWith(waiting, orders[0].data());
+        glm::vec3 under[2], out[2];
+        backgrounds(waiting, under);
+        composite(list(waiting), orders[0].data(), length(waiting), under, out);
+        store(waiting, out);
       }
     });
 
