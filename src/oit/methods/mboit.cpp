@@ -221,6 +221,10 @@ class Mboit final : public OpaqueFirstMethod {
       if (n > 0) detExpFloatBatch(exponent, weight, n);  // (n > 0: GCC then sees exponent written)
       if (saturate)
         for (int j = 0; j < n; ++j) weight[j] = std::clamp(weight[j], 0.0f, 1.0f);
+      if (n == count) {  // then used[j] = j
+        std::copy_n(weight, n, w);
+        return;
+      }
       for (int i = 0; i < count; ++i) w[i] = 1.0f;
       for (int j = 0; j < n; ++j) w[used[j]] = weight[j];
     };
@@ -237,12 +241,21 @@ class Mboit final : public OpaqueFirstMethod {
         int used[kShaderBatch], n = 0;
         float moments[kShaderBatch * 4], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
         bool fellBack[kShaderBatch];
-        for (int i = 0; i < count; ++i) {
-          const float b0 = b0Texels[i].r;
-          depths[n] = linearWarp(in, i);
-          b0s[n] = b0;
-          used[n] = i;
-          n += !(b0 < kClearB0);
+        // Usually every fragment reconstructs (a layer's own absorbance puts its pixel's b0 above
+        // kClearB0): then the batch's columns are taken as they are, in lanes.
+        bool anyClear = false;
+        for (int i = 0; i < count; ++i) b0s[i] = b0Texels[i].r, anyClear |= b0s[i] < kClearB0;
+        if (!anyClear) {
+          for (int i = 0; i < count; ++i) depths[i] = linearWarp(in, i), used[i] = i;
+          n = count;
+        } else {
+          for (int i = 0; i < count; ++i) {
+            const float b0 = b0Texels[i].r;
+            depths[n] = linearWarp(in, i);
+            b0s[n] = b0;
+            used[n] = i;
+            n += !(b0 < kClearB0);
+          }
         }
         normaliseFourMoments(lo, used, b0s, n, moments);
         powerMomentAbsorbanceBatch(4, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
