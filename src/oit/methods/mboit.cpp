@@ -24,6 +24,7 @@
 // saturate=none never clamps (thesis eq. 2.11). preset=thesis: Algorithms 5–6 as printed.
 // ln, exp, sin and cos are det_math.h's, so the weights are the same bits on every machine.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -110,10 +111,25 @@ class Mboit final : public OpaqueFirstMethod {
     // A = float(−detLog(1 − α)), α clamped below 1; the logarithms of a batch together
     // (detLogFloatBatch: float(detLog) for each; float(−v) is −float(v)).
     auto logArgument = [](float alpha) { return 1.0 - double(std::min(alpha, 1.0f - 0x1p-20f)); };
+    // A batch whose alphas are one bit pattern (a material's constant alpha: most of them) takes
+    // one logarithm (detLogFloat, as detLogFloatBatch takes it for a batch of one value), and
+    // none when it is the alpha of the thread's last such batch (usually the same object's).
     auto absorbancesOf = [&](const glm::vec4* colors, int count, float* a) {
+      const uint32_t first = std::bit_cast<uint32_t>(colors[0].a);  // a batch is never empty
+      bool oneAlpha = true;
+      for (int i = 1; i < count; ++i) oneAlpha &= std::bit_cast<uint32_t>(colors[i].a) == first;
+      if (oneAlpha) {
+        thread_local struct {
+          uint64_t alpha = ~uint64_t(0);  // no float's bits
+          float absorbance = 0.0f;
+        } last;
+        if (last.alpha != first) last = {first, -detLogFloat(logArgument(colors[0].a))};
+        std::fill_n(a, count, last.absorbance);
+        return;
+      }
       double x[kShaderBatch];
       float ln[kShaderBatch];
-      x[0] = logArgument(colors[0].a);  // a batch is never empty; said so, GCC sees x written
+      x[0] = logArgument(colors[0].a);  // said so, GCC sees x written
       for (int i = 1; i < count; ++i) x[i] = logArgument(colors[i].a);
       detLogFloatBatch(x, ln, count);
       for (int i = 0; i < count; ++i) a[i] = -ln[i];
