@@ -4,11 +4,9 @@
 // interpolation.
 #pragma once
 
-#include <algorithm>
-#include <cstring>
-
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 

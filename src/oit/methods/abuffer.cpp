@@ -83,8 +83,8 @@ class FloatLanesOver {
 };
 
 // compositeBackToFront<float> of two lists, their layers side by side (each layer waits for the
-// one behind it; the other list's layers fill that wait): list A's back layers that B has no partner for
-// first, then B's, then both together.
+// one behind it; the other list's layers fill that wait): the back layers of the longer list that
+// the other has no partner for first, then both together.
 void compositePairBackToFront(const StoredFragment* listA, const uint32_t* orderA, size_t na, const glm::vec3 backgroundA[2],
                               glm::vec3 resultA[2], const StoredFragment* listB, const uint32_t* orderB, size_t nb,
                               const glm::vec3 backgroundB[2], glm::vec3 resultB[2]) {
@@ -202,7 +202,8 @@ class Abuffer final : public Method {
                                                                glm::vec3* const result[2], bool* resolved) {
       // The stored lists stay in submission order for the result; the resolve sorts positions.
       // Two pixels at a time, side by side (DepthOrder::sortPair, compositePairBackToFront): each
-      // insertion and each layer waits for the one before, and the other pixel's work fills that wait.
+      // insertion and each layer waits for the one before, and the other pixel's work fills that
+      // wait.
       thread_local DepthOrder depthOrder;
       thread_local std::vector<uint32_t> orders[2];
       const size_t row = size_t(in.y) * w;

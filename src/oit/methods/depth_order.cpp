@@ -25,7 +25,7 @@ typedef int32_t i8 __attribute__((vector_size(32)));
 // back, where c counts the lanes of A it comes before (a run at the end, A being sorted). step(i)
 // returns false when the moves exceed the budget (the keys are then a stable partial result).
 // Each key's insertion waits for the one before (the registers): a chain of about ten cycles a
-// key, so two lists inserted side by side (sortPair) run in about the time of one.
+// key, which two lists inserted side by side (sortPair) overlap.
 struct LaneInserter {
   float *v, *w;
   uint32_t* ix;
@@ -85,7 +85,7 @@ struct LaneInserter {
   return true;
 }
 
-// One list's keys (k.view etc. past their sentinels) sorted; false when it exceeds its budget.
+// One list's keys (v, w, ix: past their eight sentinels) sorted; false when it exceeds its budget.
 [[gnu::target("avx2,popcnt")]] bool insertInLanes(float* v, float* w, uint32_t* ix, uint32_t n) {
   LaneInserter a(v, w, ix, moveBudget(n));
   return insertRest(a, 0, n);
