@@ -106,9 +106,12 @@ inline void shadeSurfaceBatch(const SceneObject& object, const float* a, int str
     int i = 0;
     for (; i + 8 <= count; i += 8) {
       const v8f alpha = particleAlpha(row(3, i), row(4, i), row(5, i));
-      for (int l = 0; l < 8; ++l) out[i + l] = {a[i + l], a[stride + i + l], a[2 * stride + i + l], alpha[l]};
+      for (int l = 0; l < 8; ++l) {
+        out[i + l] = vertexColour(a + i + l, stride);
+        out[i + l].a = alpha[l];
+      }
     }
-    for (; i < count; ++i) out[i] = {a[i], a[stride + i], a[2 * stride + i], particleAlpha(a[3 * stride + i], a[4 * stride + i], a[5 * stride + i])};
+    for (; i < count; ++i) out[i] = shadeSurface(object, a + i, stride);
     return;
   }
   for (int i = 0; i < count; ++i)
