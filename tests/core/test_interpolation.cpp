@@ -287,3 +287,63 @@ TEST_CASE("interpolation: an attribute equal at the three vertices gives its val
   CHECK(covered > 500);
   CHECK(matched == covered);
 }
+
+TEST_CASE("interpolation: a triangle whose attributes are all flat, drawn without interpolating them, as the per-fragment path", "[interp]") {
+  // A program that reads no depth (FragmentProgram::readsDepth) and a triangle whose attributes
+  // are all equal at its vertices: where FragmentStage::barycentricsBoundedOn proves B bounded
+  // over the triangle's pixels in a tile, its runs reach the shader with the vertices' values,
+  // not interpolated at all. The oracle is the per-fragment path, which interpolates each one.
+  // Triangles: ordinary ones, slivers, ones clipped at the eye plane and ones nearly edge-on.
+  const int w = 56, h = 44;
+  test::BitStream rng(71);
+  const float specials[] = {1.0f, std::nextafter(2.0f, 0.0f), 0x1p-130f, -3.0e38f, 0.1f, -7.5f, 0x1p-149f, 0.999999940f};
+  Geometry g;
+  g.attributeCount = 3;
+  for (int t = 0; t < 120; ++t) {
+    glm::vec4 v[3];
+    for (auto& p : v) p = glm::vec4(rng.uniform(-1.5f, 1.5f), rng.uniform(-1.5f, 1.5f), rng.uniform(-0.9f, 0.9f), rng.uniform(0.5f, 2.0f));
+    if (t % 4 == 1) v[2] = v[0] + (v[1] - v[0]) * 0.5f + glm::vec4(rng.uniform(-1e-4f, 1e-4f), rng.uniform(-1e-4f, 1e-4f), 0, 0);  // a sliver
+    if (t % 4 == 2) v[1].w = rng.uniform(-1.0f, 0.05f), v[1].z = -v[1].w * 0.5f;  // a vertex behind the eye: clipped
+    if (t % 4 == 3) {  // nearly edge-on: the plane of (x, y, w) nearly through the eye
+      const float a = rng.uniform(0.2f, 0.8f);
+      v[2] = v[0] * a + v[1] * (1.0f - a);
+      v[2].x += rng.uniform(-1e-5f, 1e-5f);
+      v[2].w *= 1.0f + rng.uniform(-1e-5f, 1e-5f);
+    }
+    const float a0 = t % 2 ? specials[size_t(t / 2) % 8] : rng.uniform(-4, 4), a1 = rng.uniform(0.5f, 3.0f);
+    for (int i = 0; i < 3; ++i) {
+      g.clipPositions.push_back(v[i]);
+      g.attributes.insert(g.attributes.end(), {a0, a1, -a0 * 0.5f});
+      g.indices.push_back(uint32_t(g.clipPositions.size() - 1));
+    }
+  }
+  Image out[2] = {Image(makeFormat(FormatId::RGBA32F), w, h), Image(makeFormat(FormatId::RGBA32F), w, h)};
+  for (int perFragment = 0; perFragment < 2; ++perFragment) {
+    Renderer r(RendererOptions{2, 16, perFragment == 1});
+    out[perFragment].clear(glm::vec4(NAN), exactProfile());
+    Framebuffer fb;
+    fb.color[0] = &out[perFragment];
+    FragmentProgram program = programOf([](const FragmentInput& in, FragmentOutput& o) {
+      o.write(0, glm::vec4(in.attribute(0), in.attribute(1), in.attribute(2), float(in.primitiveId)));
+    });
+    program.readsDepth = false;
+    r.draw(fb, PipelineState{}, g, program);
+  }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const glm::vec4 a = out[0].fetch(x, y), b = out[1].fetch(x, y);
+      INFO("pixel " << x << "," << y << ": " << a.x << " " << a.y << " " << a.z << " " << a.w << " per fragment " << b.x
+                    << " " << b.y << " " << b.z << " " << b.w);
+      REQUIRE(std::memcmp(&a, &b, sizeof a) == 0);
+    }
+  int covered = 0, matched = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const glm::vec4 a = out[0].fetch(x, y);
+      if (std::isnan(a.x)) continue;
+      ++covered;
+      matched += a.z == -a.x * 0.5f;
+    }
+  CHECK(covered > 1000);
+  CHECK(matched == covered);
+}

@@ -45,8 +45,9 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   const bool testsDepth = fb_.depth != nullptr && depth.testEnabled;
   depthRunAccepts_ = earlyDepthTest_ && !depth.writeMask ? depthRunAccepts(fb_.depth->format(), depth.func) : nullptr;
   rangeVerdict_ = drawRangeVerdict();
-  positionOnly_ = program.batch && !program.readsDepth && program.attributesRead == 0 && program.derivativesOf < 0 &&
-                  earlyTests_ && program.discardTest.buffer == nullptr && (!testsDepth || depthRunAccepts_);
+  flatEligible_ = program.batch && !program.readsDepth && program.derivativesOf < 0 && earlyTests_ &&
+                  program.discardTest.buffer == nullptr && (!testsDepth || depthRunAccepts_);
+  positionOnly_ = flatEligible_ && program.attributesRead == 0;
   // Tested without writing: the buffer is the shader's to read (const in the program).
   const ShaderDepthTest& discard = program.discardTest;
   const bool discardEarly = discard.buffer != nullptr && program.pure && !program.writesDepth;
@@ -59,6 +60,7 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   vertexAttributes_.assign(3 * n, 0.0);
   attributes_.assign(n, 0.0f);
   batchAttributes_.assign(size_t(kBatch) * n, 0.0f);
+  flatTriangle_ = flatRowsWritten_ = false;
   derivativesOf_ = program.derivativesOf;
   if (derivativesOf_ >= 0 && size_t(derivativesOf_) + 2 > n)
     throw std::logic_error("FragmentProgram::derivativesOf names attributes the draw does not interpolate");
@@ -97,6 +99,54 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
   flatAttributes_ = 0;
   for (int k = 0; k < std::min(n, 64); ++k)
     flatAttributes_ |= uint64_t(flatAttributeValue(va[k], va[n + k], va[2 * n + k])) << k;
+  flatRowsWritten_ = false;
+  flatTriangle_ = false;
+  if (flatEligible_ && n > 0 && n <= 64 && flatAttributes_ == (n == 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1)) {
+    // The triangle's pixels in this stage's tile (rasterizeTile's rectangle), or all of them.
+    PixelRect r = t.bounds;
+    if (tile_.x1 > tile_.x0)
+      r = {std::max(r.x0, tile_.x0), std::max(r.y0, tile_.y0), std::min(r.x1, tile_.x1), std::min(r.y1, tile_.y1)};
+    const double ndc[4] = {ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_};
+    flatTriangle_ = !interpolation_->degenerate && barycentricsBoundedOn(*interpolation_, ndc, r);
+  }
+}
+
+// Proof that B = |b̂0| + |b̂1| + |b̂2| < 2^20 at every pixel centre of the rectangle, B as
+// interpolateViewDepth and interpolateBarycentrics compute it (hats: computed values; u = 2^−53).
+// k_i(x, y) = I_i0·x_n + I_i1·y_n + I_i2 and s = Σ k_i are linear in the pixel (x_n = x·sx + ox
+// with the stored sx, ox, exactly), so over the rectangle |k_i| is greatest, and |s| least where s
+// keeps one sign, at its corners. With X ≥ |x_n|, Y ≥ |y_n| and T_i = |I_i0|·X + |I_i1|·Y + |I_i2|,
+// the computed k̂_i (x̂_n, ŷ_n rounded twice, then two products and two sums) lie within 6u·T_i of
+// k_i, and ŝ = (k̂0 + k̂1) + k̂2 within 6u·ΣT + γ2·Σ|k̂_i| of s. The corners' own k̃, s̃ are computed
+// the same way, so with K = Σ(max|k̃_i| + 12u·T_i) ≥ Σ|k̂_i| and S = min|s̃| − 32u·(ΣT + K) ≤ |ŝ|
+// (s̃ of one sign at the four corners, S > 0), B ≤ (K/S)·(1 + u)^4 (ŵ = 1/ŝ, b̂_i = k̂_i·ŵ and two
+// sums, one rounding each), below 2^20 where K < 2^19·S. A NaN or an infinity fails a comparison.
+bool FragmentStage::barycentricsBoundedOn(const TriangleInterpolation& t, const double (&ndc)[4], const PixelRect& r) {
+  if (r.x0 >= r.x1 || r.y0 >= r.y1) return false;
+  const double xs[2] = {double(r.x0), double(r.x1 - 1)}, ys[2] = {double(r.y0), double(r.y1 - 1)};
+  const double X = std::max(std::fabs(xs[0]), std::fabs(xs[1])) * std::fabs(ndc[0]) + std::fabs(ndc[1]);
+  const double Y = std::max(std::fabs(ys[0]), std::fabs(ys[1])) * std::fabs(ndc[2]) + std::fabs(ndc[3]);
+  double T = 0.0, largest[3] = {0.0, 0.0, 0.0}, leastS = std::numeric_limits<double>::infinity();
+  for (const auto& row : t.inverse) T += std::fabs(row[0]) * X + std::fabs(row[1]) * Y + std::fabs(row[2]);
+  int positive = 0, negative = 0;
+  for (double y : ys) {
+    const double yn = y * ndc[2] + ndc[3];
+    for (double x : xs) {
+      const double xn = x * ndc[0] + ndc[1];
+      double s = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        const double k = inverseRowAt(t.inverse[i], xn, yn);
+        largest[i] = std::max(largest[i], std::fabs(k));
+        s = i == 0 ? k : s + k;  // (k0 + k1) + k2
+      }
+      positive += s > 0.0, negative += s < 0.0;
+      leastS = std::min(leastS, std::fabs(s));
+    }
+  }
+  constexpr double u = 0x1p-53;
+  const double K = (largest[0] + largest[1]) + largest[2] + 12.0 * u * T;
+  const double S = leastS - 32.0 * u * (T + K);
+  return (positive == 4 || negative == 4) && S > 0.0 && K < 0x1p19 * S;
 }
 
 void FragmentStage::interpolateAttributes(const double* b, float* out) const {
@@ -206,7 +256,7 @@ RunVerdict FragmentStage::runVerdict(int y, int start, int n, double zLow, doubl
 void FragmentStage::span(int y, int x0, int x1) {
   if (interpolation_->degenerate) return;
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
-  if (positionOnly_) {
+  if (positionOnly_ || flatTriangle_) {
     prefetchDepthRow(y + 2, x0, x1);
     return positionSpan(y, yn, x0, x1);
   }
@@ -263,6 +313,12 @@ void FragmentStage::positionSpan(int y, double yn, int x0, int x1) {
                                                                          : RunVerdict::Undecided;
     if (v == RunVerdict::AllPass) {
       counters_.rasterized += uint64_t(n);
+      if (flatTriangle_ && !flatRowsWritten_) {
+        const int attributes = int(attributes_.size());
+        for (int k = 0; k < attributes; ++k)
+          std::fill_n(batchAttributes_.data() + size_t(k) * kBatch, kBatch, float(vertexAttributes_[size_t(k)]));
+        flatRowsWritten_ = true;
+      }
       for (int i = 0; i < n; ++i) {
         batchX_[i] = start + i;
         batchZ_[i] = std::numeric_limits<double>::quiet_NaN();

@@ -67,6 +67,20 @@ class FragmentStage {
 
   const FragmentCounters& counters() const { return counters_; }
 
+  // The bound on B = |b0| + |b1| + |b2| below which an attribute equal at the three vertices
+  // interpolates to that value (flatAttributeValue).
+  static constexpr double kFlatBarycentricBound = 1048576.0;  // 2^20
+  // Whether every pixel centre of `r` has B < kFlatBarycentricBound, B as interpolate() computes
+  // it there for the triangle `t` with the NDC map x_n = x·ndc[0] + ndc[1], y_n = y·ndc[2] +
+  // ndc[3] (a proof over the rectangle's corners, at the definition). False where it cannot tell.
+  static bool barycentricsBoundedOn(const TriangleInterpolation& t, const double (&ndc)[4], const PixelRect& r);
+  // k_i = M⁻¹_i·(x_n, y_n, 1) for row i of M⁻¹, at one pixel or in lanes: interpolate()'s first
+  // products and sums, in its order.
+  template <typename D>
+  static D inverseRowAt(const double (&row)[3], D xn, double yn) {
+    return row[0] * xn + row[1] * yn + row[2];
+  }
+
  private:
   void process(FragmentInput& in, double z, const double* perspectiveBary);
   // Everything before blending; true when the fragment reaches blending with `out`'s colours.
@@ -84,7 +98,8 @@ class FragmentStage {
   // The batch path: the fragments [0, count) of row y in the batch arrays (batchX_, batchZ_, …),
   // early-tested already, shaded by one program_->batch call, then afterShader and blending.
   void shadeAndBlendBatch(int y, int count);
-  // span() for a draw whose program reads neither depths nor attributes (positionOnly_): runs
+  // span() for a draw whose program reads neither depths nor attributes (positionOnly_), or only
+  // attributes that are the same at every pixel of the triangle in the tile (flatTriangle_): runs
   // that provably pass the depth test go to the shader as they are, without interpolation.
   void positionSpan(int y, double yn, int x0, int x1);
   // The pixels [start, start + n) of row y at NDC y `yn`, n ≤ kBatch, through the batch path:
@@ -123,7 +138,6 @@ class FragmentStage {
   static bool flatAttributeValue(double a0, double a1, double a2) {
     return a0 == a1 && a1 == a2 && a0 != 0.0 && std::isfinite(a0);
   }
-  static constexpr double kFlatBarycentricBound = 1048576.0;  // 2^20
   void interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count, float* out) const;
   void fillInput(FragmentInput& in, int x, int y, double z, double w) const;
   // Pixel x of the row at NDC y `yn`: the perspective-correct barycentrics b, the view depth w and
@@ -140,9 +154,9 @@ class FragmentStage {
   void interpolateViewDepth(X x, double yn, D& k0, D& k1, D& k2, D& w) const {
     const double(&inverse)[3][3] = interpolation_->inverse;
     const D xn = D(x) * ndcScaleX_ + ndcOffsetX_;
-    k0 = inverse[0][0] * xn + inverse[0][1] * yn + inverse[0][2];
-    k1 = inverse[1][0] * xn + inverse[1][1] * yn + inverse[1][2];
-    k2 = inverse[2][0] * xn + inverse[2][1] * yn + inverse[2][2];
+    k0 = inverseRowAt(inverse[0], xn, yn);
+    k1 = inverseRowAt(inverse[1], xn, yn);
+    k2 = inverseRowAt(inverse[2], xn, yn);
     w = 1.0 / (k0 + k1 + k2);  // P.w, the view depth
   }
   // The second: b = k·w in place, and the window z.
@@ -215,6 +229,11 @@ class FragmentStage {
   // (FragmentProgram::readsDepth): span() takes positionSpan(). depthRunAccepts_: the draw's
   // test of a run that surely passes, null where it tests no depth.
   bool positionOnly_ = false;
+  // A draw whose program could take positionSpan() but reads attributes (positionOnly_'s other
+  // conditions), and, per triangle, one whose attributes are all flat (flatAttributes_) with B
+  // bounded over its pixels in the tile (barycentricsBoundedOn): its batches' attribute rows are
+  // the vertices' values, written once (flatRowsWritten_) until spanBatch writes its own.
+  bool flatEligible_ = false, flatTriangle_ = false, flatRowsWritten_ = false;
   // A batch program that reads no depth (FragmentProgram::readsDepth), with early tests and no
   // discard test of its own: a run that surely passes the depth test needs no window z, and its
   // fragments reach the shader with NaN depths.
