@@ -61,6 +61,9 @@ struct FragmentBatch {
   int attributeStride = 0;
   const double* derivatives = nullptr;  // fragment i's at derivatives[c · derivativeStride + i]
   int derivativeStride = 0;
+  // Bit k (k < 64): attribute k holds one value in every fragment of the batch (the rasterizer's
+  // flat attributes), so a shader may read it once. A hint: 0 promises nothing.
+  uint64_t uniformAttributes = 0;
   bool frontFacing = true;
   uint32_t primitiveId = 0;
   uint32_t drawId = 0;
@@ -271,8 +274,10 @@ struct FragmentProgram {
   // Whether the shader reads the fragment's depths (FragmentInput::depth, viewDepth). A batch
   // program that does not, with early tests and no depth writes, lets the pipeline skip the
   // window depth of the runs of a span that provably pass the depth test (pipeline/depth_bounds.h),
-  // and, if it reads no attribute either (attributesRead 0), their interpolation: their fragments
-  // reach the shader with NaN depths. Which fragments reach it, and in which order, does not change.
+  // and, if it reads no attribute either (attributesRead 0) or only attributes that are the same at
+  // a triangle's three vertices (where the pipeline proves that interpolation gives that value at
+  // each of its pixels), their interpolation: their fragments reach the shader with NaN depths.
+  // Which fragments reach it, and in which order, does not change.
   bool readsDepth = true;
 };
 

@@ -131,7 +131,7 @@ class PassRunner {
             if (in.count <= 0) return;  // never: it tells the compiler the rows below are set
             glm::vec4 colors[kShaderBatch];
             shadeSurfaceBatch(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride, filtering,
-                              in.count, colors);
+                              in.count, colors, in.uniformAttributes);
             if (!object.alphaTest) return shader(in, colors, out);
             // The alpha test's survivors, each as a batch of one (the shader must not see the
             // others: it may store what it sees).

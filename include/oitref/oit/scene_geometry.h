@@ -4,6 +4,7 @@
 // interpolation.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -87,10 +88,16 @@ inline glm::vec4 shadeSurface(const SceneObject& object, const float* a, int str
   return c;
 }
 // shadeSurface for fragments [0, count) of a batch (attribute k of fragment i at a[k · stride + i],
-// derivatives likewise): the object's kind decided once, not per fragment.
+// derivatives likewise): the object's kind decided once, not per fragment. `uniform`:
+// FragmentBatch::uniformAttributes (bit k: attribute k is the same in every fragment).
 inline void shadeSurfaceBatch(const SceneObject& object, const float* a, int stride, const double* derivatives,
-                              int derivativeStride, TextureFiltering filtering, int count, glm::vec4* out) {
+                              int derivativeStride, TextureFiltering filtering, int count, glm::vec4* out,
+                              uint64_t uniform = 0) {
   if (object.type != ObjectType::Particles && !object.texture) {
+    if ((uniform & 0xF) == 0xF) {  // a flat-coloured triangle: the colour once
+      std::fill_n(out, count, vertexColour(a, stride));
+      return;
+    }
     for (int i = 0; i < count; ++i) out[i] = vertexColour(a + i, stride);
     return;
   }

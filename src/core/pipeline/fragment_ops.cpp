@@ -60,7 +60,7 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   vertexAttributes_.assign(3 * n, 0.0);
   attributes_.assign(n, 0.0f);
   batchAttributes_.assign(size_t(kBatch) * n, 0.0f);
-  flatTriangle_ = flatRowsWritten_ = false;
+  flatTriangle_ = flatRowsWritten_ = flatProven_ = false;
   derivativesOf_ = program.derivativesOf;
   if (derivativesOf_ >= 0 && size_t(derivativesOf_) + 2 > n)
     throw std::logic_error("FragmentProgram::derivativesOf names attributes the draw does not interpolate");
@@ -100,15 +100,16 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
   for (int k = 0; k < std::min(n, 64); ++k)
     flatAttributes_ |= uint64_t(flatAttributeValue(va[k], va[n + k], va[2 * n + k])) << k;
   flatRowsWritten_ = false;
-  flatTriangle_ = false;
-  if (flatEligible_ && n > 0 && n <= 64 && flatAttributes_ == (n == 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1)) {
+  flatProven_ = false;
+  if (n > 0 && n <= 64 && flatAttributes_ == (n == 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1)) {
     // The triangle's pixels in this stage's tile (rasterizeTile's rectangle), or all of them.
     PixelRect r = t.bounds;
     if (tile_.x1 > tile_.x0)
       r = {std::max(r.x0, tile_.x0), std::max(r.y0, tile_.y0), std::min(r.x1, tile_.x1), std::min(r.y1, tile_.y1)};
     const double ndc[4] = {ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_};
-    flatTriangle_ = !interpolation_->degenerate && barycentricsBoundedOn(*interpolation_, ndc, r);
+    flatProven_ = !interpolation_->degenerate && barycentricsBoundedOn(*interpolation_, ndc, r);
   }
+  flatTriangle_ = flatEligible_ && flatProven_;
 }
 
 // Proof that B = |b̂0| + |b̂1| + |b̂2| < 2^20 at every pixel centre of the rectangle, B as
@@ -157,14 +158,15 @@ void FragmentStage::interpolateAttributes(const double* b, float* out) const {
 
 // Lanes up to the next multiple of four past `count` compute from whatever b holds there; their
 // results are never read.
-void FragmentStage::interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count,
-                                               float* out) const {
+uint64_t FragmentStage::interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count,
+                                                   float* out) const {
   const int n = int(attributes_.size());
   const double* va = vertexAttributes_.data();
   // The flat attributes are their vertices' value where every lane's B is below the bound
-  // (flatAttributeValue); a NaN B fails the test.
+  // (flatAttributeValue; a NaN B fails the test), proven for the whole triangle in the tile
+  // (flatProven_: the lanes past `count`, outside the span, do not matter then) or lane by lane.
   uint64_t flat = flatAttributes_;
-  if (flat) {
+  if (flat && !flatProven_) {
     typedef int64_t l4 __attribute__((vector_size(32)));
     const auto magnitude = [](lanes::d4 v) { return v < 0.0 ? -v : v; };
     l4 bounded = l4{} - 1;
@@ -190,6 +192,7 @@ void FragmentStage::interpolateAttributesBatch(const double* b0, const double* b
       std::memcpy(row + j, &a, sizeof a);
     }
   }
+  return flat;
 }
 
 // Filled field by field in place: built as a temporary and copied, the copy's 16-byte loads of
@@ -319,6 +322,7 @@ void FragmentStage::positionSpan(int y, double yn, int x0, int x1) {
           std::fill_n(batchAttributes_.data() + size_t(k) * kBatch, kBatch, float(vertexAttributes_[size_t(k)]));
         flatRowsWritten_ = true;
       }
+      batchUniform_ = flatTriangle_ ? flatAttributes_ : 0;
       for (int i = 0; i < n; ++i) {
         batchX_[i] = start + i;
         batchZ_[i] = std::numeric_limits<double>::quiet_NaN();
@@ -386,7 +390,7 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n, bool passes) {
         std::memcpy(batchX_ + j, &x, sizeof x);
       }
       std::memcpy(batchZ_, z, sizeof(double) * size_t(n));
-      interpolateAttributesBatch(b0, b1, b2, count, batchAttributes_.data());
+      batchUniform_ = interpolateAttributesBatch(b0, b1, b2, count, batchAttributes_.data());
       shadeAndBlendBatch(y, count);
       return;
     }
@@ -400,7 +404,7 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n, bool passes) {
       c0[j] = b0[i], c1[j] = b1[i], c2[j] = b2[i];
     }
     for (int j = count; j % 4; ++j) c0[j] = c1[j] = c2[j] = 0.0;  // the last lanes' inputs: defined
-    interpolateAttributesBatch(c0, c1, c2, count, batchAttributes_.data());
+    batchUniform_ = interpolateAttributesBatch(c0, c1, c2, count, batchAttributes_.data());
     shadeAndBlendBatch(y, count);
     return;
   }
@@ -460,6 +464,8 @@ void FragmentStage::shadeAndBlendBatch(int y, int count) {
   batch.attributes = batchAttributes_.data();
   batch.attributeCount = int(attributes_.size());
   batch.attributeStride = kBatch;
+  batch.uniformAttributes = batchUniform_;
+  batchUniform_ = 0;
   batch.frontFacing = triangle_ ? triangle_->frontFacing : true;
   batch.primitiveId = triangle_ ? triangle_->primitiveId : 0;
   batch.drawId = drawId_;

@@ -138,7 +138,9 @@ class FragmentStage {
   static bool flatAttributeValue(double a0, double a1, double a2) {
     return a0 == a1 && a1 == a2 && a0 != 0.0 && std::isfinite(a0);
   }
-  void interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count, float* out) const;
+  // Returns the attributes it wrote as their vertices' common value (bit k), for FragmentBatch::
+  // uniformAttributes.
+  uint64_t interpolateAttributesBatch(const double* b0, const double* b1, const double* b2, int count, float* out) const;
   void fillInput(FragmentInput& in, int x, int y, double z, double w) const;
   // Pixel x of the row at NDC y `yn`: the perspective-correct barycentrics b, the view depth w and
   // the window z, the expressions of the header comment, one rounding each in double. On one
@@ -234,6 +236,11 @@ class FragmentStage {
   // bounded over its pixels in the tile (barycentricsBoundedOn): its batches' attribute rows are
   // the vertices' values, written once (flatRowsWritten_) until spanBatch writes its own.
   bool flatEligible_ = false, flatTriangle_ = false, flatRowsWritten_ = false;
+  // The current triangle's attributes are all flat and its B bounded over its pixels in the tile,
+  // whatever the program (flatTriangle_ needs an eligible program as well): interpolation writes
+  // them without checking each batch's lanes.
+  bool flatProven_ = false;
+  uint64_t batchUniform_ = 0;  // FragmentBatch::uniformAttributes of the next shadeAndBlendBatch
   // A batch program that reads no depth (FragmentProgram::readsDepth), with early tests and no
   // discard test of its own: a run that surely passes the depth test needs no window z, and its
   // fragments reach the shader with NaN depths.

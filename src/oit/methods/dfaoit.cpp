@@ -64,7 +64,7 @@ class Dfaoit final : public OpaqueFirstMethod {
         color[1]->store(in.x, in.y, c, profile);
       }
       out.write(0, c);
-      out.write(1, glm::vec4(glm::vec3(c) * c.a, c.a));
+      out.write(1, premultiplied(c));
       out.write(2, glm::vec4(1.0f));
     });
     const DfaoitParameters& network = dfaoitTrainedParameters();

@@ -43,7 +43,7 @@ class Meshkin3 final : public OpaqueFirstMethod {
     sums.depth = &t.depth();
     run.transparentPass("sums", sums, transparentState(profile, additiveBlend()),
                         [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
-                          out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));
+                          out.write(0, premultiplied(c));
                           out.write(1, glm::vec4(glm::vec3(1.0f / c.a), c.a));
                         });
     Framebuffer product;

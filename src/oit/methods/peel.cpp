@@ -59,7 +59,7 @@ class Peel final : public OpaqueFirstMethod {
                                      continue;
                                    }
                                    const glm::vec4& c = colors[i];
-                                   out.write(i, 0, glm::vec4(glm::vec3(c) * c.a, c.a));
+                                   out.write(i, 0, premultiplied(c));
                                  }
                                },
                                /*mayDiscard=*/true, /*pure=*/true, behindPeeled);

@@ -95,7 +95,7 @@ class Stochastic final : public OpaqueFirstMethod {
       int visible = 0;
       for (const DepthBuffer* d : sampleDepth) visible += z <= d->load(in.x, in.y);
       const float v = float(visible) / float(samples);
-      out.write(0, glm::vec4(glm::vec3(c) * c.a * v, c.a * v));
+      out.write(0, premultiplied(c, v));
       out.write(1, glm::vec4(c.a));
     });
     compositeWeighted(run, t, accum, reveal);

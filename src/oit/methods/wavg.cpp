@@ -36,7 +36,7 @@ class Wavg final : public OpaqueFirstMethod {
     fb.depth = &t.depth();                                          // step 6
     const PipelineState st = transparentState(context.profile, additiveBlend());  // steps 7–8
     run.transparentPass("accumulate", fb, st, [](const FragmentInput&, const glm::vec4& c, FragmentOutput& out) {
-      out.write(0, glm::vec4(glm::vec3(c) * c.a, c.a));             // step 9: S_accum
+      out.write(0, premultiplied(c));             // step 9: S_accum
       out.write(1, glm::vec4(1.0f));
     });
     // Steps 10–11: blend (avg, T) into C1 with C_f = C_s·(1 − α_s) + C_d·α_s.

@@ -29,7 +29,7 @@ class Wsum final : public Method {
     const PipelineState st = transparentState(context.profile, additiveBlend());  // steps 6–8
     const bool mayDiscard = false, pure = false, readsDepth = false;  // step 9 reads only the colour
     run.transparentBatchPass("accumulate", fb, st, [](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput& out) {
-      for (int i = 0; i < in.count; ++i) out.write(i, 0, glm::vec4(glm::vec3(c[i]) * c[i].a, c[i].a));  // step 9
+      for (int i = 0; i < in.count; ++i) out.write(i, 0, premultiplied(c[i]));  // step 9: (c·α, α)
     }, mayDiscard, pure, {}, readsDepth);
     // Step 11: C_f = C2.rgb + C1.rgb·(1 − C2.a), a full-screen pass into C3 (and the analysis copy).
     Image& final = t[final_];
