@@ -31,6 +31,16 @@ double computedB(const TriangleInterpolation& t, const Ndc& ndc, int x, int y) {
   return (std::fabs(k[0] * w) + std::fabs(k[1] * w)) + std::fabs(k[2] * w);
 }
 
+// The window z at pixel centre (x, y) the long way, as interpolate() computes it: b_i = k_i·w,
+// z = ½·((b0·c0 + b1·c1 + b2·c2)/w) + ½.
+double computedWindowZ(const TriangleInterpolation& t, const Ndc& ndc, int x, int y) {
+  const double xn = double(x) * ndc.map[0] + ndc.map[1], yn = double(y) * ndc.map[2] + ndc.map[3];
+  double k[3];
+  for (int i = 0; i < 3; ++i) k[i] = t.inverse[i][0] * xn + t.inverse[i][1] * yn + t.inverse[i][2];
+  const double w = 1.0 / (k[0] + k[1] + k[2]);
+  return 0.5 * ((k[0] * w * t.clipZ[0] + k[1] * w * t.clipZ[1] + k[2] * w * t.clipZ[2]) / w) + 0.5;
+}
+
 // Whether every centre of r has B below the bound (NaN is not below it).
 bool allBelow(const TriangleInterpolation& t, const Ndc& ndc, const PixelRect& r) {
   for (int y = r.y0; y < r.y1; ++y)
@@ -92,4 +102,54 @@ TEST_CASE("barycentric bound: a rectangle that holds the triangle's horizon is n
   // every such triangle.
   CHECK(allBelow(ti, ndc, PixelRect{24, 0, 32, 32}));
   CHECK(FragmentStage::barycentricsBoundedOn(ti, ndc.map, PixelRect{24, 0, 32, 32}));
+}
+
+TEST_CASE("barycentric bound: the window depth's plane is within its margin of the long way at every pixel", "[interp]") {
+  // FragmentStage::windowDepthPlane over a rectangle that barycentricsBoundedOn proved: at each
+  // pixel centre the plane's value, ½·(a·x_n + (b·y_n + c)) + ½ as the span kernel takes it, is
+  // within plane.error of interpolate()'s window z. The two differ by rounding only, a few units
+  // of 2^−53 (so a margin of 0 fails); the margin must also be narrow enough to be of use.
+  const int w = 256, h = 192;
+  const Ndc ndc(w, h);
+  test::BitStream rng(101);
+  int planes = 0, pixels = 0, differing = 0;
+  double widest = 0.0;
+  for (int t = 0; t < 500; ++t) {
+    glm::dvec4 v[3];
+    for (auto& p : v) {
+      const double cw = rng.uniform(0.1f, 4.0f);
+      p = glm::dvec4(rng.uniform(-1.5f, 1.5f) * cw, rng.uniform(-1.5f, 1.5f) * cw, rng.uniform(-1.0f, 1.0f) * cw, cw);
+    }
+    if (t % 4 == 1) v[0].z = -v[0].w;                      // at the near plane
+    if (t % 4 == 2) v[1].w = rng.uniform(-1.0f, 0.1f);     // a vertex behind the eye
+    if (t % 4 == 3) v[2].z = v[2].w * 0.99999;             // near the far plane
+    const TriangleInterpolation ti = interpolationOf(v);
+    if (ti.degenerate) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int rw = 1 + int(rng.uniform(0, 64)), rh = 1 + int(rng.uniform(0, 64));
+      const int x0 = int(rng.uniform(0, float(w - rw))), y0 = int(rng.uniform(0, float(h - rh)));
+      const PixelRect r{x0, y0, x0 + rw, y0 + rh};
+      FragmentStage::RectangleBound bound;
+      FragmentStage::WindowDepthPlane plane;
+      if (!FragmentStage::barycentricsBoundedOn(ti, ndc.map, r, &bound) || !FragmentStage::windowDepthPlane(ti, bound, plane))
+        continue;
+      ++planes;
+      widest = std::max(widest, plane.error);
+      for (int y = r.y0; y < r.y1; ++y) {
+        const double yn = double(y) * ndc.map[2] + ndc.map[3], rowPart = plane.b * yn + plane.c;
+        for (int x = r.x0; x < r.x1; ++x) {
+          const double xn = double(x) * ndc.map[0] + ndc.map[1];
+          const double fromPlane = 0.5 * (plane.a * xn + rowPart) + 0.5, longWay = computedWindowZ(ti, ndc, x, y);
+          INFO("triangle " << t << " pixel " << x << "," << y << " margin " << plane.error);
+          REQUIRE(std::fabs(fromPlane - longWay) <= plane.error);
+          ++pixels;
+          differing += fromPlane != longWay;
+        }
+      }
+    }
+  }
+  INFO(planes << " planes, " << pixels << " pixels, " << differing << " differing, widest margin " << widest);
+  CHECK(planes > 500);
+  CHECK(differing > 1000);     // the margin is needed
+  CHECK(widest < 0x1p-32);     // and narrow: fp32 window depths near 1 are 2^−24 apart
 }

@@ -347,3 +347,65 @@ TEST_CASE("interpolation: a triangle whose attributes are all flat, drawn withou
   CHECK(covered > 1000);
   CHECK(matched == covered);
 }
+
+TEST_CASE("interpolation: a flat triangle's window depth from its plane is interpolate()'s, as the per-fragment path", "[interp]") {
+  // A program that reads the window depth but not the view depth (FragmentProgram::readsViewDepth)
+  // drawing triangles whose attributes are all flat: where the pipeline proves the depth test
+  // passes (or there is none), positionSpan takes gl_FragCoord.z from the triangle's depth plane
+  // where it proves the fp32 the same (FragmentStage::windowDepthsFromPlane). The oracle is the
+  // per-fragment path, which interpolates each fragment's depth the long way. Triangles spanning
+  // a wide range of depths (a vertex near the near plane), slivers, clipped ones; with no depth
+  // buffer, and against one cleared to 1 with LESS and no writes (every run provably passes).
+  const int w = 64, h = 48;
+  test::BitStream rng(83);
+  Geometry g;
+  g.attributeCount = 2;
+  for (int t = 0; t < 150; ++t) {
+    glm::vec4 v[3];
+    for (auto& p : v) {
+      const float cw = rng.uniform(0.3f, 3.0f);
+      p = glm::vec4(rng.uniform(-1.5f, 1.5f) * cw, rng.uniform(-1.5f, 1.5f) * cw, rng.uniform(-0.99f, 0.99f) * cw, cw);
+    }
+    if (t % 5 == 1) v[0].z = -v[0].w * 0.999999f;  // at the near plane
+    if (t % 5 == 2) v[2] = v[0] + (v[1] - v[0]) * 0.5f + glm::vec4(rng.uniform(-1e-4f, 1e-4f), rng.uniform(-1e-4f, 1e-4f), 0, 0);
+    if (t % 5 == 3) v[1].w = rng.uniform(-1.0f, 0.05f), v[1].z = -v[1].w * 0.5f;  // clipped at the eye plane
+    const float a0 = rng.uniform(-4, 4), a1 = rng.uniform(0.5f, 3.0f);
+    for (int i = 0; i < 3; ++i) {
+      g.clipPositions.push_back(v[i]);
+      g.attributes.insert(g.attributes.end(), {a0, a1});
+      g.indices.push_back(uint32_t(g.clipPositions.size() - 1));
+    }
+  }
+  for (int tested = 0; tested < 2; ++tested) {
+    Image out[2] = {Image(makeFormat(FormatId::RGBA32F), w, h), Image(makeFormat(FormatId::RGBA32F), w, h)};
+    for (int perFragment = 0; perFragment < 2; ++perFragment) {
+      Renderer r(RendererOptions{2, 16, perFragment == 1});
+      out[perFragment].clear(glm::vec4(NAN), exactProfile());
+      DepthBuffer depth(DepthFormat::D32F, w, h);
+      Framebuffer fb;
+      fb.color[0] = &out[perFragment];
+      PipelineState state;
+      if (tested) {
+        fb.depth = &depth;
+        state.depth.testEnabled = true;
+        state.depth.func = CompareFunc::Less;
+        state.depth.writeMask = false;
+      }
+      FragmentProgram program = programOf([](const FragmentInput& in, FragmentOutput& o) {
+        o.write(0, glm::vec4(in.depth, in.attribute(0), in.attribute(1), float(in.primitiveId)));
+      });
+      program.readsViewDepth = false;
+      r.draw(fb, state, g, program);
+    }
+    int covered = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const glm::vec4 a = out[0].fetch(x, y), b = out[1].fetch(x, y);
+        INFO((tested ? "depth-tested" : "no depth test") << " pixel " << x << "," << y << ": " << a.x << " " << a.w
+                                                           << " per fragment " << b.x << " " << b.w);
+        REQUIRE(std::memcmp(&a, &b, sizeof a) == 0);
+        covered += !std::isnan(a.y);
+      }
+    CHECK(covered > 1500);
+  }
+}

@@ -279,6 +279,12 @@ struct FragmentProgram {
   // each of its pixels), their interpolation: their fragments reach the shader with NaN depths.
   // Which fragments reach it, and in which order, does not change.
   bool readsDepth = true;
+  // With readsDepth: whether the shader reads FragmentInput::viewDepth as well. One that reads only
+  // the window depth (gl_FragCoord.z) lets the pipeline take the window depth of a flat triangle
+  // (one whose attributes are all equal at its vertices) from its plane, proven to round to the
+  // same fp32 (pipeline/fragment_ops.h), where it proves the depth test passes; the view depth is
+  // NaN there.
+  bool readsViewDepth = true;
 };
 
 // A program whose per-fragment and batch shaders are the one callable

@@ -119,11 +119,12 @@ class PassRunner {
   // (lanes). The per-fragment program calls it with a batch of one, so it stays the batch's oracle.
   // `discardTest`: the shader's own depth test (FragmentProgram::discardTest; needs `pure`).
   // `readsDepth` false: the shader reads neither in.depth nor in.viewDepth, so the pipeline need
-  // not compute the window depth where it proves the depth test passes (FragmentProgram::readsDepth).
+  // not compute the window depth where it proves the depth test passes (FragmentProgram::readsDepth);
+  // `readsViewDepth` false: it reads in.depth but not in.viewDepth (FragmentProgram::readsViewDepth).
   template <typename BatchShader>
   void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                             const BatchShader& shader, bool mayDiscard = false, bool pure = false,
-                            const ShaderDepthTest& discardTest = {}, bool readsDepth = true) {
+                            const ShaderDepthTest& discardTest = {}, bool readsDepth = true, bool readsViewDepth = true) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       const TextureFiltering filtering = context_.profile.texture;
       FragmentProgram program = programOfBatch(
@@ -152,6 +153,7 @@ class PassRunner {
           mayDiscard, pure);
       program.discardTest = discardTest;
       program.readsDepth = readsDepth;
+      program.readsViewDepth = readsViewDepth;
       withSurfaceTest(program, object, state);
       return program;
     });

@@ -45,8 +45,11 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   const bool testsDepth = fb_.depth != nullptr && depth.testEnabled;
   depthRunAccepts_ = earlyDepthTest_ && !depth.writeMask ? depthRunAccepts(fb_.depth->format(), depth.func) : nullptr;
   rangeVerdict_ = drawRangeVerdict();
-  flatEligible_ = program.batch && !program.readsDepth && program.derivativesOf < 0 && earlyTests_ &&
-                  program.discardTest.buffer == nullptr && (!testsDepth || depthRunAccepts_);
+  // Runs that surely pass the depth test need no test and no depth for it: positionSpan().
+  const bool runsWithoutTest = program.batch && program.derivativesOf < 0 && earlyTests_ &&
+                               program.discardTest.buffer == nullptr && (!testsDepth || depthRunAccepts_);
+  flatEligible_ = runsWithoutTest && !program.readsDepth;
+  planeDepthEligible_ = runsWithoutTest && program.readsDepth && !program.readsViewDepth;
   positionOnly_ = flatEligible_ && program.attributesRead == 0;
   // Tested without writing: the buffer is the shader's to read (const in the program).
   const ShaderDepthTest& discard = program.discardTest;
@@ -60,7 +63,7 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   vertexAttributes_.assign(3 * n, 0.0);
   attributes_.assign(n, 0.0f);
   batchAttributes_.assign(size_t(kBatch) * n, 0.0f);
-  flatTriangle_ = flatRowsWritten_ = flatProven_ = false;
+  flatTriangle_ = flatRowsWritten_ = flatProven_ = planeDepth_ = false;
   derivativesOf_ = program.derivativesOf;
   if (derivativesOf_ >= 0 && size_t(derivativesOf_) + 2 > n)
     throw std::logic_error("FragmentProgram::derivativesOf names attributes the draw does not interpolate");
@@ -107,9 +110,54 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
     if (tile_.x1 > tile_.x0)
       r = {std::max(r.x0, tile_.x0), std::max(r.y0, tile_.y0), std::min(r.x1, tile_.x1), std::min(r.y1, tile_.y1)};
     const double ndc[4] = {ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_};
-    flatProven_ = !interpolation_->degenerate && barycentricsBoundedOn(*interpolation_, ndc, r);
+    RectangleBound bound;
+    flatProven_ = !interpolation_->degenerate && barycentricsBoundedOn(*interpolation_, ndc, r, &bound);
+    planeDepth_ = planeDepthEligible_ && flatProven_ && windowDepthPlane(*interpolation_, bound, depthPlane_);
   }
-  flatTriangle_ = flatEligible_ && flatProven_;
+  flatTriangle_ = (flatEligible_ || planeDepth_) && flatProven_;
+}
+
+// The window z is affine in the pixel: with b_i = k_i·w and w = 1/Σk_i, z_w = ½·(Σ b_i·c_i)/w + ½
+// = ½·Σ c_i·k_i + ½, and k_i = I_i0·x_n + I_i1·y_n + I_i2, so z_w = ½·(a·x_n + b·y_n + c) + ½ with
+// a = Σ c_i·I_i0, b = Σ c_i·I_i1, c = Σ c_i·I_i2 (c_i the clip z). interpolate() computes it the
+// long way; its ẑ_w differs from the exact Z = ½·Σ c_i·k_i + ½ by at most 3u·Σ|c_i|·T_i (the k̂_i's
+// own errors, halved) + 3u·Σ|c_i|·|k̂_i| (b̂_i, the products, two sums and the quotient by ŵ: ŵ
+// itself cancels, five roundings) + u·|ẑ_w| (the last sum; ½·q̂ is exact but where it underflows,
+// by 2^−1075 at most). The plane's value, computed with rounded a, b, c (three roundings each) from
+// x̂_n, ŷ_n, differs from Z by at most 4u·Σ|c_i|·T_i + u·|z_w|, half of its ndc error 8u·Σ|c_i|·T_i.
+// With |k̂_i| ≤ K_i over the rectangle (barycentricsBoundedOn) and |Z| ≤ ½·Σ|c_i|·K_i + ½, the
+// margin error = 32u·(Σ|c_i|·(T + K_i) + 1) + 2^−1000 covers both, the rounding of z ± error
+// included; it is set up only where error < 2^−30, which also bounds every value involved.
+bool FragmentStage::windowDepthPlane(const TriangleInterpolation& t, const RectangleBound& bound, WindowDepthPlane& out) {
+  const double(&inverse)[3][3] = t.inverse;
+  const double* clipZ = t.clipZ;
+  double plane[3];
+  for (int j = 0; j < 3; ++j) plane[j] = (clipZ[0] * inverse[0][j] + clipZ[1] * inverse[1][j]) + clipZ[2] * inverse[2][j];
+  double magnitude = 1.0;
+  for (int i = 0; i < 3; ++i) magnitude += std::fabs(clipZ[i]) * (bound.T + bound.K[i]);
+  const double error = 32.0 * 0x1p-53 * magnitude + 0x1p-1000;
+  if (!(error < 0x1p-30) || !std::isfinite(plane[0] + plane[1] + plane[2])) return false;
+  out = {plane[0], plane[1], plane[2], error};
+  return true;
+}
+
+// Lanes past n compute columns beyond the run; their results are neither checked nor read.
+bool FragmentStage::windowDepthsFromPlane(double yn, int start, int n) {
+  const WindowDepthPlane& p = depthPlane_;
+  const double rowPart = p.b * yn + p.c;
+  lanes::i4 differ = {0, 0, 0, 0};
+  for (int i = 0; i < n; i += 4) {
+    const double x = double(start + i);
+    const lanes::d4 xn = lanes::d4{x, x + 1.0, x + 2.0, x + 3.0} * ndcScaleX_ + ndcOffsetX_;
+    const lanes::d4 z = 0.5 * (p.a * xn + rowPart) + 0.5;
+    const lanes::f4 low = lanes::convert<lanes::f4>(z - p.error), high = lanes::convert<lanes::f4>(z + p.error);
+    lanes::i4 lowBits, highBits;  // bit patterns: +0 and −0 are not the same depth here
+    std::memcpy(&lowBits, &low, sizeof low), std::memcpy(&highBits, &high, sizeof high);
+    const lanes::i4 inRun = lanes::i4{0, 1, 2, 3} + i < n;
+    differ |= (lowBits != highBits) & inRun;
+    std::memcpy(batchDepth_ + i, &low, sizeof low);
+  }
+  return !(differ[0] | differ[1] | differ[2] | differ[3]);
 }
 
 // Proof that B = |b̂0| + |b̂1| + |b̂2| < 2^20 at every pixel centre of the rectangle, B as
@@ -122,7 +170,8 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
 // the same way, so with K = Σ(max|k̃_i| + 12u·T_i) ≥ Σ|k̂_i| and S = min|s̃| − 32u·(ΣT + K) ≤ |ŝ|
 // (s̃ of one sign at the four corners, S > 0), B ≤ (K/S)·(1 + u)^4 (ŵ = 1/ŝ, b̂_i = k̂_i·ŵ and two
 // sums, one rounding each), below 2^20 where K < 2^19·S. A NaN or an infinity fails a comparison.
-bool FragmentStage::barycentricsBoundedOn(const TriangleInterpolation& t, const double (&ndc)[4], const PixelRect& r) {
+bool FragmentStage::barycentricsBoundedOn(const TriangleInterpolation& t, const double (&ndc)[4], const PixelRect& r,
+                                          RectangleBound* bound) {
   if (r.x0 >= r.x1 || r.y0 >= r.y1) return false;
   const double xs[2] = {double(r.x0), double(r.x1 - 1)}, ys[2] = {double(r.y0), double(r.y1 - 1)};
   const double X = std::max(std::fabs(xs[0]), std::fabs(xs[1])) * std::fabs(ndc[0]) + std::fabs(ndc[1]);
@@ -147,7 +196,12 @@ bool FragmentStage::barycentricsBoundedOn(const TriangleInterpolation& t, const 
   constexpr double u = 0x1p-53;
   const double K = (largest[0] + largest[1]) + largest[2] + 12.0 * u * T;
   const double S = leastS - 32.0 * u * (T + K);
-  return (positive == 4 || negative == 4) && S > 0.0 && K < 0x1p19 * S;
+  const bool bounded = (positive == 4 || negative == 4) && S > 0.0 && K < 0x1p19 * S;
+  if (bounded && bound) {
+    bound->T = T;
+    for (int i = 0; i < 3; ++i) bound->K[i] = largest[i] + 12.0 * u * T;
+  }
+  return bounded;
 }
 
 void FragmentStage::interpolateAttributes(const double* b, float* out) const {
@@ -315,18 +369,23 @@ void FragmentStage::positionSpan(int y, double yn, int x0, int x1) {
                          : depthBounds_.bound(first, last, zLow, zHigh) ? runVerdict(y, start, n, zLow, zHigh, true, read)
                                                                          : RunVerdict::Undecided;
     if (v == RunVerdict::AllPass) {
-      counters_.rasterized += uint64_t(n);
       if (flatTriangle_ && !flatRowsWritten_) {
         const int attributes = int(attributes_.size());
         for (int k = 0; k < attributes; ++k)
           std::fill_n(batchAttributes_.data() + size_t(k) * kBatch, kBatch, float(vertexAttributes_[size_t(k)]));
         flatRowsWritten_ = true;
       }
+      if (planeDepth_ && !windowDepthsFromPlane(yn, start, n)) {  // a depth it cannot prove: the long way
+        spanBatch(y, yn, start, n, earlyDepthTest_);
+        continue;
+      }
+      counters_.rasterized += uint64_t(n);
       batchUniform_ = flatTriangle_ ? flatAttributes_ : 0;
       for (int i = 0; i < n; ++i) {
         batchX_[i] = start + i;
         batchZ_[i] = std::numeric_limits<double>::quiet_NaN();
-        batchDepth_[i] = batchViewDepth_[i] = std::numeric_limits<float>::quiet_NaN();
+        batchViewDepth_[i] = std::numeric_limits<float>::quiet_NaN();
+        if (!planeDepth_) batchDepth_[i] = std::numeric_limits<float>::quiet_NaN();
       }
       shadeAndBlendBatch(y, n);
     } else if (v == RunVerdict::AllFail) {

@@ -73,7 +73,21 @@ class FragmentStage {
   // Whether every pixel centre of `r` has B < kFlatBarycentricBound, B as interpolate() computes
   // it there for the triangle `t` with the NDC map x_n = x·ndc[0] + ndc[1], y_n = y·ndc[2] +
   // ndc[3] (a proof over the rectangle's corners, at the definition). False where it cannot tell.
-  static bool barycentricsBoundedOn(const TriangleInterpolation& t, const double (&ndc)[4], const PixelRect& r);
+  // `bound`, where given and the answer is yes: ΣT_i and bounds on each |k̂_i| over the rectangle
+  // (the proof's T and max|k̃_i| + 12u·T), for the window depth's plane (beginTriangle).
+  struct RectangleBound {
+    double T = 0.0, K[3] = {0.0, 0.0, 0.0};
+  };
+  static bool barycentricsBoundedOn(const TriangleInterpolation& t, const double (&ndc)[4], const PixelRect& r,
+                                    RectangleBound* bound = nullptr);
+  // z_w = ½·(a·x_n + b·y_n + c) + ½, evaluated in double with at most three roundings for the
+  // parenthesis, lies within `error` of interpolate()'s window z at every pixel centre of a
+  // rectangle whose RectangleBound is `bound` (the proof is at the definition). False where the
+  // margin would be too wide to use (2^−30 or more).
+  struct WindowDepthPlane {
+    double a = 0.0, b = 0.0, c = 0.0, error = 0.0;
+  };
+  static bool windowDepthPlane(const TriangleInterpolation& t, const RectangleBound& bound, WindowDepthPlane& plane);
   // k_i = M⁻¹_i·(x_n, y_n, 1) for row i of M⁻¹, at one pixel or in lanes: interpolate()'s first
   // products and sums, in its order.
   template <typename D>
@@ -240,6 +254,14 @@ class FragmentStage {
   // whatever the program (flatTriangle_ needs an eligible program as well): interpolation writes
   // them without checking each batch's lanes.
   bool flatProven_ = false;
+  // A draw whose program reads the window depth but not the view depth (FragmentProgram::
+  // readsViewDepth), with flatEligible_'s other conditions; per triangle, one of them that is
+  // flatProven_ with a usable depth plane (depthPlane_): positionSpan() gives its runs that
+  // surely pass the depth test fp32 window depths from the plane, proven to be interpolate()'s
+  // rounded (windowDepthsFromPlane), and NaN view depths.
+  bool planeDepthEligible_ = false, planeDepth_ = false;
+  WindowDepthPlane depthPlane_;  // of the current triangle, where planeDepth_
+  bool windowDepthsFromPlane(double yn, int start, int n);
   uint64_t batchUniform_ = 0;  // FragmentBatch::uniformAttributes of the next shadeAndBlendBatch
   // A batch program that reads no depth (FragmentProgram::readsDepth), with early tests and no
   // discard test of its own: a run that surely passes the depth test needs no window z, and its

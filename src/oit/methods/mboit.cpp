@@ -104,6 +104,7 @@ class Mboit final : public OpaqueFirstMethod {
     // bits), or the log of the view depth.
     const float warpScale = unitDepth_ ? 1.0f : 2.0f, warpOffset = unitDepth_ ? 0.0f : 1.0f;
     auto linearWarp = [warpScale, warpOffset](const FragmentBatch& in, int i) { return warpScale * in.depth[i] - warpOffset; };
+    const bool readsViewDepth = logWarp;  // linearWarp reads only the window depth
     auto warp = [&, logWarp](const FragmentBatch& in, int i) {
       if (!logWarp) return linearWarp(in, i);
       return float(2.0 * detLog(double(in.viewDepth[i]) / double(cam.nearPlane)) / logRange - 1.0);
@@ -159,7 +160,8 @@ class Mboit final : public OpaqueFirstMethod {
                                    float absorbance[kShaderBatch];
                                    absorbancesOf(colors, in.count, absorbance);
                                    for (int i = 0; i < in.count; ++i) writeMoments(in, i, absorbance[i], out);
-                                 });
+                                 },
+                                 false, false, {}, true, readsViewDepth);
       };
       if (usualSet)
         momentPass([&](const FragmentBatch& in, int i, float a, FragmentBatchOutput& out) {
@@ -211,7 +213,8 @@ class Mboit final : public OpaqueFirstMethod {
                                  b0Image.storeRow(in.y, xs, n, b0s, profile);
                                  momentImages[0]->storeRow(in.y, xs, n, lo, profile);
                                  if (momentImages[1]) momentImages[1]->storeRow(in.y, xs, n, hi, profile);
-                               });
+                               },
+                               false, false, {}, true, readsViewDepth);
     }
 
     const float bias = bias_, overestimation = overestimation_;
@@ -276,7 +279,7 @@ class Mboit final : public OpaqueFirstMethod {
         normaliseFourMoments(lo, used, b0s, n, moments);
         powerMomentAbsorbanceBatch(4, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
         weightsFrom(count, n, used, b0s, absorbance, fellBack, w);
-      });
+      }, readsViewDepth);
     } else {
       accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
         const int count = in.count;
@@ -312,7 +315,7 @@ class Mboit final : public OpaqueFirstMethod {
         else
           powerMomentAbsorbanceBatch(set.count, moments, depths, n, bias, biasVector, overestimation, absorbance, fellBack);
         weightsFrom(count, n, used, b0s, absorbance, fellBack, w);
-      });
+      }, readsViewDepth);
     }
 
     compositeWeighted(run, t, accum, reveal, clamp_);  // as WBOIT

@@ -88,11 +88,13 @@ inline glm::vec4 premultiplied(const glm::vec4& c, float w) {
 // The accumulation pass of McGuire–Bavoil eq. 6 (listing 3), which WBOIT, MBOIT and MT share:
 // accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,
 // ONE_MINUS_SRC_COLOR, against the opaque depth; weights(const FragmentBatch& in,
-// const glm::vec4* colors, float* w) sets each fragment's w of a batch at once.
+// const glm::vec4* colors, float* w) sets each fragment's w of a batch at once; `readsViewDepth`:
+// whether it reads in.viewDepth (FragmentProgram::readsViewDepth; in.depth it may read either way).
 Framebuffer weightedAccumulationTargets(FrameTargets& targets, Image& accum, Image& reveal);
 PipelineState weightedAccumulationState(const Profile& profile);
 template <typename Weights>
-void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weights& weights) {
+void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accum, Image& reveal, const Weights& weights,
+                             bool readsViewDepth = true) {
   Framebuffer fb = weightedAccumulationTargets(targets, accum, reveal);
   run.transparentBatchPass("accumulate", fb, weightedAccumulationState(run.context().profile),
                            [&weights](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
@@ -103,7 +105,8 @@ void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accu
                                out.write(i, 0, premultiplied(c, w[i]));  // (c.rgb·α·w, α·w)
                                out.write(i, 1, glm::vec4(c.a));
                              }
-                           });
+                           },
+                           false, false, {}, true, readsViewDepth);
 }
 
 // The composite of WBOIT, MBOIT and stochastic transparency: weightedResolve(accum, reveal, clamp)

@@ -75,6 +75,9 @@ auto withWeight(Weight kind, F&& f) {
   return f(kWeightOf<Weight::MB10>);
 }
 
+// McGuire–Bavoil's eq. 7–9 read the view depth; the others only the window depth (or none).
+bool readsViewDepth(Weight kind) { return kind == Weight::MB7 || kind == Weight::MB8 || kind == Weight::MB9; }
+
 float weight(Weight kind, float alpha, float windowZ, float viewZ) {
   return withWeight(kind, [&](auto w) { return w(alpha, windowZ, viewZ); });
 }
@@ -123,7 +126,7 @@ class Wboit final : public OpaqueFirstMethod {
         for (int i = 0; i < count; ++i) out[i] = weightOf(alpha[i], z[i], view[i]);
       });
       std::copy_n(out, count, w);
-    });
+    }, readsViewDepth(kind));
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
     compositeWeighted(run, t, accum, reveal, clamp_);
   }
