@@ -126,11 +126,23 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
   for (const ScenePart& part : context_.geometry.parts) {
     if (part.transparent && !everything) continue;
     const SceneObject& object = context_.scene.objects[part.objectIndex];
-    FragmentProgram program = programOf([&object, filtering = context_.profile.texture](const FragmentInput& in, FragmentOutput& out) {
-      const glm::vec4 c = shadeSurface(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride, filtering);
-      if (surfaceDiscards(object, c)) return out.discard();
-      out.write(0, glm::vec4(glm::vec3(c), 1.0f));
-      out.write(1, glm::vec4(glm::vec3(c), 1.0f));
+    // A batch shader (shadeSurfaceBatch: a flat triangle's colour once); the per-fragment path runs
+    // it on batches of one.
+    FragmentProgram program = programOfBatch([&object, filtering = context_.profile.texture](const FragmentBatch& in,
+                                                                                           FragmentBatchOutput& out) {
+      if (in.count <= 0) return;  // never: it tells the compiler the rows below are set
+      glm::vec4 colors[kShaderBatch];
+      shadeSurfaceBatch(object, in.attributes, in.attributeStride, in.derivatives, in.derivativeStride, filtering, in.count,
+                        colors, in.uniformAttributes);
+      for (int i = 0; i < in.count; ++i) {
+        if (surfaceDiscards(object, colors[i])) {
+          out.discard(i);
+          continue;
+        }
+        const glm::vec4 opaqueColour{glm::vec3(colors[i]), 1.0f};
+        out.write(i, 0, opaqueColour);
+        out.write(i, 1, opaqueColour);
+      }
     });
     withSurfaceTest(program, object, st);
     draws.push_back({&clipGeometry(part), std::move(program), uint32_t(part.objectIndex)});
