@@ -47,6 +47,23 @@ double ulpsApart(float got, ld want) {
   return double(std::fabs(ld(got) - want) / ulp);
 }
 
+// The flat-attribute tests' triangles: kind 0 ordinary, 1 a sliver, 2 with a vertex behind the
+// eye (clipped), 3 nearly edge-on (the plane of clip x, y, w nearly through the eye).
+void flatTestTriangle(test::BitStream& rng, int kind, glm::vec4 v[3]) {
+  for (int i = 0; i < 3; ++i)
+    v[i] = glm::vec4(rng.uniform(-1.5f, 1.5f), rng.uniform(-1.5f, 1.5f), rng.uniform(-0.9f, 0.9f), rng.uniform(0.5f, 2.0f));
+  if (kind == 1) v[2] = v[0] + (v[1] - v[0]) * 0.5f + glm::vec4(rng.uniform(-1e-4f, 1e-4f), rng.uniform(-1e-4f, 1e-4f), 0, 0);
+  if (kind == 2) v[1].w = rng.uniform(-1.0f, 0.05f), v[1].z = -v[1].w * 0.5f;
+  if (kind == 3) {
+    const float a = rng.uniform(0.2f, 0.8f);
+    v[2] = v[0] * a + v[1] * (1.0f - a);
+    v[2].x += rng.uniform(-1e-5f, 1e-5f);
+    v[2].w *= 1.0f + rng.uniform(-1e-5f, 1e-5f);
+  }
+}
+// Values next to powers of two, subnormal, the largest float and negative ones.
+constexpr float kFlatSpecials[] = {1.0f, 0x1.fffffep0f, 0x1p-130f, -3.0e38f, 0.1f, -7.5f, 0x1p-149f, 0.999999940f};
+
 }  // namespace
 
 TEST_CASE("interpolation: perspective-correct attributes and window-linear depth, unclipped", "[interp]") {
@@ -242,16 +259,13 @@ TEST_CASE("interpolation: an attribute equal at the three vertices gives its val
   // vertices' value (the proof's claim), checked where the pixel is covered.
   const int w = 48, h = 40;
   test::BitStream rng(53);
-  const float specials[] = {1.0f, std::nextafter(2.0f, 0.0f), 0x1p-130f, -3.0e38f, 0.1f, -7.5f, 0x1p-149f, 0.999999940f};
   Geometry g;
   g.attributeCount = 4;
   int triangles = 0;
   for (int t = 0; t < 90; ++t) {
     glm::vec4 v[3];
-    for (auto& p : v) p = glm::vec4(rng.uniform(-1.5f, 1.5f), rng.uniform(-1.5f, 1.5f), rng.uniform(-0.9f, 0.9f), rng.uniform(0.5f, 2.0f));
-    if (t % 3 == 1) v[2] = v[0] + (v[1] - v[0]) * 0.5f + glm::vec4(rng.uniform(-1e-4f, 1e-4f), rng.uniform(-1e-4f, 1e-4f), 0, 0);  // a sliver
-    if (t % 3 == 2) v[1].w = rng.uniform(-1.0f, 0.05f), v[1].z = -v[1].w * 0.5f;  // a vertex behind the eye: clipped
-    const float flat = t % 2 ? specials[size_t(t / 2) % 8] : rng.uniform(-4, 4);
+    flatTestTriangle(rng, t % 3, v);
+    const float flat = t % 2 ? kFlatSpecials[size_t(t / 2) % 8] : rng.uniform(-4, 4);
     const float shared = rng.uniform(-3, 3);
     for (int i = 0; i < 3; ++i) {
       g.clipPositions.push_back(v[i]);
@@ -296,21 +310,12 @@ TEST_CASE("interpolation: a triangle whose attributes are all flat, drawn withou
   // Triangles: ordinary ones, slivers, ones clipped at the eye plane and ones nearly edge-on.
   const int w = 56, h = 44;
   test::BitStream rng(71);
-  const float specials[] = {1.0f, std::nextafter(2.0f, 0.0f), 0x1p-130f, -3.0e38f, 0.1f, -7.5f, 0x1p-149f, 0.999999940f};
   Geometry g;
   g.attributeCount = 3;
   for (int t = 0; t < 120; ++t) {
     glm::vec4 v[3];
-    for (auto& p : v) p = glm::vec4(rng.uniform(-1.5f, 1.5f), rng.uniform(-1.5f, 1.5f), rng.uniform(-0.9f, 0.9f), rng.uniform(0.5f, 2.0f));
-    if (t % 4 == 1) v[2] = v[0] + (v[1] - v[0]) * 0.5f + glm::vec4(rng.uniform(-1e-4f, 1e-4f), rng.uniform(-1e-4f, 1e-4f), 0, 0);  // a sliver
-    if (t % 4 == 2) v[1].w = rng.uniform(-1.0f, 0.05f), v[1].z = -v[1].w * 0.5f;  // a vertex behind the eye: clipped
-    if (t % 4 == 3) {  // nearly edge-on: the plane of (x, y, w) nearly through the eye
-      const float a = rng.uniform(0.2f, 0.8f);
-      v[2] = v[0] * a + v[1] * (1.0f - a);
-      v[2].x += rng.uniform(-1e-5f, 1e-5f);
-      v[2].w *= 1.0f + rng.uniform(-1e-5f, 1e-5f);
-    }
-    const float a0 = t % 2 ? specials[size_t(t / 2) % 8] : rng.uniform(-4, 4), a1 = rng.uniform(0.5f, 3.0f);
+    flatTestTriangle(rng, t % 4, v);
+    const float a0 = t % 2 ? kFlatSpecials[size_t(t / 2) % 8] : rng.uniform(-4, 4), a1 = rng.uniform(0.5f, 3.0f);
     for (int i = 0; i < 3; ++i) {
       g.clipPositions.push_back(v[i]);
       g.attributes.insert(g.attributes.end(), {a0, a1, -a0 * 0.5f});

@@ -248,7 +248,8 @@ class FragmentStage {
   // A draw whose program could take positionSpan() but reads attributes (positionOnly_'s other
   // conditions), and, per triangle, one whose attributes are all flat (flatAttributes_) with B
   // bounded over its pixels in the tile (barycentricsBoundedOn): its batches' attribute rows are
-  // the vertices' values, written once (flatRowsWritten_) until spanBatch writes its own.
+  // the vertices' values, written once per triangle (flatRowsWritten_; where spanBatch takes one
+  // of its runs, it writes the same values, by the proof).
   bool flatEligible_ = false, flatTriangle_ = false, flatRowsWritten_ = false;
   // The current triangle's attributes are all flat and its B bounded over its pixels in the tile,
   // whatever the program (flatTriangle_ needs an eligible program as well): interpolation writes
