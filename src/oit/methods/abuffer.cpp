@@ -19,6 +19,7 @@
 #include "methods/fragment_bound.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
+#include "util/huge_pages.h"
 
 namespace oitref::methods {
 namespace {
@@ -181,8 +182,13 @@ class Abuffer final : public Method {
                                " MiB)" + deepestText + " Raise it with --set max_fragments=N or render smaller.");
     std::vector<uint64_t> start(pixels + 1, 0);
     for (size_t p = 0; p < pixels; ++p) start[p + 1] = start[p] + count[p];
-    std::vector<StoredFragment> fragments =
-        context.pool ? context.pool->takeFragments(total) : std::vector<StoredFragment>(total);
+    std::vector<StoredFragment> fragments;
+    if (context.pool) {
+      fragments = context.pool->takeFragments(total);
+    } else {
+      util::reserveOnHugePages(fragments, total);
+      fragments.resize(total);
+    }
     std::vector<uint32_t> filled(pixels, 0);
     run.transparentBatchPass("store", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
       const size_t row = size_t(in.y) * w;

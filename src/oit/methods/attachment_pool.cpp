@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "util/huge_pages.h"
+
 namespace oitref {
 namespace {
 
@@ -52,6 +54,8 @@ std::vector<TransparentFragment> AttachmentPool::takeFragments(size_t n) {
   ++lentFragments_;
   std::vector<TransparentFragment> v = std::move(fragments_);
   fragments_ = {};
+  if (n > v.capacity()) v = {};  // a new allocation (reserveOnHugePages), not a copy of the old one's elements
+  util::reserveOnHugePages(v, n);
   v.resize(n);  // shrinking touches nothing; growing value-initialises only the new part
   return v;
 }

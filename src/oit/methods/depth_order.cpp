@@ -19,41 +19,40 @@ size_t moveBudget(uint32_t n) { return 8 * size_t(n) + 64; }
 typedef float f8 __attribute__((vector_size(32)));
 typedef int32_t i8 __attribute__((vector_size(32)));
 
-// Insertion over SoA keys with eight sentinel slots before position 0 (view and window −∞:
-// nothing comes before them). The last eight sorted keys stay in registers: for position i, A
-// holds positions i−8 … i−1 and B positions i−7 … i (the new key last); the new key goes c places
-// back, where c counts the lanes of A it comes before (a run at the end, A being sorted). step(i)
-// returns false when the moves exceed the budget (the keys are then a stable partial result).
-// Each key's insertion waits for the one before (the registers): a chain of about ten cycles a
-// key, which two lists inserted side by side (sortPair) overlap.
+// Insertion by view depth alone over SoA keys (view and list position) with eight sentinel slots
+// before position 0 (view −∞: nothing comes before them); equal view depths keep their list order
+// (the insertion is stable) and DepthOrder::orderFromLaneKeys orders each run of them by window
+// depth afterwards. The last eight sorted keys stay in registers: for position i, A holds positions
+// i−8 … i−1 and B positions i−7 … i (the new key last); the new key goes c places back, where c
+// counts the lanes of A it comes before (a run at the end, A being sorted). step(i) returns false
+// when the moves exceed the budget (the keys are then a stable partial result). Each key's
+// insertion waits for the one before (the registers): a chain of about eight cycles a key, which
+// two lists inserted side by side (sortPair) overlap.
 struct LaneInserter {
-  float *v, *w;
+  float* v;
   uint32_t* ix;
   size_t budget, moves = 0;
-  f8 rv, rw;
+  f8 rv;
   i8 ri;
-  [[gnu::target("avx2,popcnt"), gnu::always_inline]] inline LaneInserter(float* v_, float* w_, uint32_t* ix_, size_t budget_)
-      : v(v_), w(w_), ix(ix_), budget(budget_) {
+  [[gnu::target("avx2,popcnt"), gnu::always_inline]] inline LaneInserter(float* v_, uint32_t* ix_, size_t budget_)
+      : v(v_), ix(ix_), budget(budget_) {
     __builtin_memcpy(&rv, v - 8, 32);
-    __builtin_memcpy(&rw, w - 8, 32);
     __builtin_memcpy(&ri, ix - 8, 32);
   }
   [[gnu::target("avx2,popcnt"), gnu::always_inline]] inline bool step(uint32_t i) {
-    const float kv = v[i], kw = w[i];
-    const f8 sv = f8{} + kv, sw = f8{} + kw;
+    const float kv = v[i];
+    const f8 sv = f8{} + kv;
     const i8 si = i8{} + int32_t(i);
-    const i8 isBefore = (sv < rv) | ((sv == rv) & (sw < rw));
+    const i8 isBefore = sv < rv;
     const int c = __builtin_popcount(unsigned(_mm256_movemask_ps(__m256(isBefore))));
     if (c == 8) {  // further back than the registers reach: the scalar step in memory
       __builtin_memcpy(v + int64_t(i) - 8, &rv, 32);
-      __builtin_memcpy(w + int64_t(i) - 8, &rw, 32);
       __builtin_memcpy(ix + int64_t(i) - 8, &ri, 32);
       int64_t j = i;
-      for (; before(kv, kw, v[j - 1], w[j - 1]); --j) v[j] = v[j - 1], w[j] = w[j - 1], ix[j] = ix[j - 1];
-      v[j] = kv, w[j] = kw, ix[j] = i;
+      for (; kv < v[j - 1]; --j) v[j] = v[j - 1], ix[j] = ix[j - 1];
+      v[j] = kv, ix[j] = i;
       moves += size_t(int64_t(i) - j);
       __builtin_memcpy(&rv, v + int64_t(i) - 7, 32);
-      __builtin_memcpy(&rw, w + int64_t(i) - 7, 32);
       __builtin_memcpy(&ri, ix + int64_t(i) - 7, 32);
       return moves <= budget;
     }
@@ -64,15 +63,13 @@ struct LaneInserter {
     // B from A: one lane down, the new key (or for `at`, all ones) into lane 7.
 #define OITREF_NEXT_LANES 1, 2, 3, 4, 5, 6, 7, 8
     const i8 shifted = isBefore, at = __builtin_shufflevector(isBefore, i8{} - 1, OITREF_NEXT_LANES) & ~isBefore;
-    const f8 bv = __builtin_shufflevector(rv, sv, OITREF_NEXT_LANES), bw = __builtin_shufflevector(rw, sw, OITREF_NEXT_LANES);
+    const f8 bv = __builtin_shufflevector(rv, sv, OITREF_NEXT_LANES);
     const i8 bi = __builtin_shufflevector(ri, si, OITREF_NEXT_LANES);
 #undef OITREF_NEXT_LANES
     rv = at ? sv : shifted ? rv : bv;
-    rw = at ? sw : shifted ? rw : bw;
     ri = at ? si : shifted ? ri : bi;
     // Positions i−7 … i in memory too: the scalar step and the result read them.
     __builtin_memcpy(v + int64_t(i) - 7, &rv, 32);
-    __builtin_memcpy(w + int64_t(i) - 7, &rw, 32);
     __builtin_memcpy(ix + int64_t(i) - 7, &ri, 32);
     return moves <= budget;
   }
@@ -85,17 +82,17 @@ struct LaneInserter {
   return true;
 }
 
-// One list's keys (v, w, ix: past their eight sentinels) sorted; false when it exceeds its budget.
-[[gnu::target("avx2,popcnt")]] bool insertInLanes(float* v, float* w, uint32_t* ix, uint32_t n) {
-  LaneInserter a(v, w, ix, moveBudget(n));
+// One list's keys (v, ix: past their eight sentinels) sorted; false when it exceeds its budget.
+[[gnu::target("avx2,popcnt")]] bool insertInLanes(float* v, uint32_t* ix, uint32_t n) {
+  LaneInserter a(v, ix, moveBudget(n));
   return insertRest(a, 0, n);
 }
 
 // Two lists' insertions side by side while both have keys (their chains overlap), then the
 // longer one's rest. ok[k]: list k stayed within its budget.
-[[gnu::target("avx2,popcnt")]] void insertTwoInLanes(float* va, float* wa, uint32_t* ia, uint32_t na, float* vb, float* wb,
-                                                     uint32_t* ib, uint32_t nb, bool ok[2]) {
-  LaneInserter a(va, wa, ia, moveBudget(na)), b(vb, wb, ib, moveBudget(nb));
+[[gnu::target("avx2,popcnt")]] void insertTwoInLanes(float* va, uint32_t* ia, uint32_t na, float* vb, uint32_t* ib, uint32_t nb,
+                                                     bool ok[2]) {
+  LaneInserter a(va, ia, moveBudget(na)), b(vb, ib, moveBudget(nb));
   const uint32_t both = std::min(na, nb);
   uint32_t i = 0;
   bool okA = true, okB = true;
@@ -134,26 +131,41 @@ void DepthOrder::sortScalar(const TransparentFragment* list, uint32_t n, uint32_
 
 bool DepthOrder::laneKeys(int k, const TransparentFragment* list, uint32_t n) {
   LaneKeys& keys = lanes_[k];
-  keys.view.resize(8 + size_t(n)), keys.window.resize(8 + size_t(n)), keys.index.resize(8 + size_t(n));
-  std::fill_n(keys.view.begin(), 8, -INFINITY), std::fill_n(keys.window.begin(), 8, -INFINITY);
-  std::fill_n(keys.index.begin(), 8, 0);
+  keys.view.resize(8 + size_t(n)), keys.index.resize(8 + size_t(n));
+  std::fill_n(keys.view.begin(), 8, -INFINITY), std::fill_n(keys.index.begin(), 8, 0);
   bool hasNan = false;
   for (uint32_t i = 0; i < n; ++i) {
-    keys.view[8 + i] = list[i].viewDepth, keys.window[8 + i] = list[i].windowDepth, keys.index[8 + i] = i;
+    keys.view[8 + i] = list[i].viewDepth, keys.index[8 + i] = i;
     hasNan |= std::isnan(list[i].viewDepth) | std::isnan(list[i].windowDepth);
   }
   return !hasNan;
 }
 
-void DepthOrder::orderFromLaneKeys(int k, uint32_t n, uint32_t* order, bool sorted) {
+void DepthOrder::orderFromLaneKeys(int k, const TransparentFragment* list, uint32_t n, uint32_t* order, bool sorted) {
   const LaneKeys& keys = lanes_[k];
   if (sorted) {
+    // Sorted by view depth, ties in list order: each run of equal view depths (== : −0 and +0
+    // too) in the order of their window depths, ties still in list order: the order of `before`.
+    const float* view = keys.view.data() + 8;
     std::copy_n(keys.index.data() + 8, n, order);
+    bool tie = false;  // in lanes, no branch per key: most lists have none
+    for (uint32_t i = 1; i < n; ++i) tie |= view[i] == view[i - 1];
+    for (uint32_t a = 0; tie && a + 1 < n;) {
+      uint32_t b = a + 1;
+      while (b < n && view[b] == view[a]) ++b;
+      if (b - a > 1)
+        std::stable_sort(order + a, order + b, [list](uint32_t x, uint32_t y) { return list[x].windowDepth < list[y].windowDepth; });
+      a = b;
+    }
     return;
   }
-  // Not nearly sorted: std::stable_sort finishes from the stable partial order.
+  // Not nearly sorted: std::stable_sort finishes from the partial order, which is stable (equal
+  // view depths, and so equal keys, still in list order).
   keys_.resize(n);
-  for (uint32_t i = 0; i < n; ++i) keys_[i] = {keys.view[8 + i], keys.window[8 + i], keys.index[8 + i]};
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t j = keys.index[8 + i];
+    keys_[i] = {keys.view[8 + i], list[j].windowDepth, j};
+  }
   orderFromKeys(n, order, false);
 }
 
@@ -171,7 +183,7 @@ void DepthOrder::sort(const TransparentFragment* list, uint32_t n, uint32_t* ord
   if (lanesAvailable() && n > 1) {
     if (!laneKeys(0, list, n)) return sortScalar(list, n, order);
     LaneKeys& k = lanes_[0];
-    return orderFromLaneKeys(0, n, order, insertInLanes(k.view.data() + 8, k.window.data() + 8, k.index.data() + 8, n));
+    return orderFromLaneKeys(0, list, n, order, insertInLanes(k.view.data() + 8, k.index.data() + 8, n));
   }
 #endif
   sortScalar(list, n, order);
@@ -183,10 +195,9 @@ void DepthOrder::sortPair(const TransparentFragment* listA, uint32_t na, uint32_
   if (lanesAvailable() && na > 1 && nb > 1 && laneKeys(0, listA, na) && laneKeys(1, listB, nb)) {
     LaneKeys &a = lanes_[0], &b = lanes_[1];
     bool ok[2];
-    insertTwoInLanes(a.view.data() + 8, a.window.data() + 8, a.index.data() + 8, na, b.view.data() + 8, b.window.data() + 8,
-                     b.index.data() + 8, nb, ok);
-    orderFromLaneKeys(0, na, orderA, ok[0]);
-    orderFromLaneKeys(1, nb, orderB, ok[1]);
+    insertTwoInLanes(a.view.data() + 8, a.index.data() + 8, na, b.view.data() + 8, b.index.data() + 8, nb, ok);
+    orderFromLaneKeys(0, listA, na, orderA, ok[0]);
+    orderFromLaneKeys(1, listB, nb, orderB, ok[1]);
     return;
   }
 #endif

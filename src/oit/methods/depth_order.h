@@ -41,12 +41,12 @@ class DepthOrder {
   // A list's keys as lanes read them: eight sentinel slots, then the keys (laneKeys; false when
   // one is NaN, which the lanes do not order). k: which of the two lists of sortPair.
   struct LaneKeys {
-    std::vector<float> view, window;
+    std::vector<float> view;
     std::vector<uint32_t> index;
   };
   static bool lanesAvailable();
   bool laneKeys(int k, const TransparentFragment* list, uint32_t n);
-  void orderFromLaneKeys(int k, uint32_t n, uint32_t* order, bool sorted);
+  void orderFromLaneKeys(int k, const TransparentFragment* list, uint32_t n, uint32_t* order, bool sorted);
   std::vector<Key> keys_;
   LaneKeys lanes_[2];
 };
