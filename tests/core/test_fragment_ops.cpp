@@ -282,6 +282,40 @@ TEST_CASE("fragment ops: a batch program gives the per-fragment program's attach
   }
 }
 
+TEST_CASE("fragment ops: with no colour target bound, a batch program counts as the per-fragment one", "[fragment]") {
+  // The A-buffer's passes bind only a depth buffer and store through their shaders: their batches
+  // blend nothing, and the stage only counts what they discarded.
+  const Geometry g = overlappingTriangles(150, 12);
+  std::atomic<uint64_t> stored[2] = {0, 0};
+  for (bool early : {false, true}) {
+    DrawStats stats[2];
+    for (int batch = 0; batch < 2; ++batch) {
+      const auto shader = [&, batch](const FragmentInput& in, FragmentOutput& o) {
+        if (in.primitiveId % 5 == 1 && in.x % 3 == 0) return o.discard();
+        stored[batch].fetch_add(1, std::memory_order_relaxed);
+        o.write(0, colorOf(in.primitiveId));  // no target bound: nothing lands
+      };
+      Renderer r(RendererOptions{2, 8});
+      DepthBuffer depth(DepthFormat::D24, W, H);
+      depth.clear(0.6);
+      Framebuffer fb;
+      fb.depth = &depth;
+      PipelineState st;
+      st.depth = {true, CompareFunc::Less, false, false};
+      const FragmentProgram program = batch ? programOf(shader, true, false, early) : FragmentProgram{shader, true, false, early};
+      stats[batch] = r.draw(fb, st, g, program);
+    }
+    INFO("early fragment tests " << early);
+    CHECK(stats[0].fragmentsShaded == stats[1].fragmentsShaded);
+    CHECK(stats[0].fragmentsDepthFailed == stats[1].fragmentsDepthFailed);
+    CHECK(stats[0].fragmentsDiscarded == stats[1].fragmentsDiscarded);
+    CHECK(stats[1].fragmentsWritten == 0);
+    CHECK(stats[1].fragmentsDiscarded > 0);
+    CHECK(stats[1].fragmentsDepthFailed > 0);
+  }
+  CHECK(stored[0] == stored[1]);
+}
+
 TEST_CASE("fragment ops: a pure program that may discard gives the late test's attachments, shading fewer", "[fragment]") {
   // FragmentProgram::pure lets fragments that fail the depth test go unshaded although the test
   // of a discarding shader comes after it. The oracle is the same program without `pure` (the

@@ -471,6 +471,11 @@ void FragmentStage::shadeAndBlendBatch(int y, int count) {
   if (earlyTests_) {
     // afterShader with the depth test done: discard, and whether a bound output was written.
     // Usually no fragment discarded and all wrote a bound target: then all of them blend.
+    if (!boundTargets_) {  // nothing to blend (the A-buffer's passes store through the shader): count the discards
+      if (outputs_.anyDiscarded(count))
+        for (int i = 0; i < count; ++i) counters_.discarded += outputs_.discarded(i);
+      return;
+    }
     const unsigned written = outputs_.writtenByAll(count);
     if (!outputs_.anyDiscarded(count) && (written & boundTargets_)) {
       counters_.written += uint64_t(count);
