@@ -147,7 +147,12 @@ class Abuffer final : public Method {
     try {
       run.transparentPositionPass("count", depthOnly, st, [&](const FragmentBatch& in, FragmentBatchOutput&) {
         uint32_t* row = count.data() + size_t(in.y) * w;
-        for (int i = 0; i < in.count; ++i) ++row[in.x[i]];
+        if (in.x[in.count - 1] - in.x[0] == in.count - 1) {  // a run of pixels (x ascending): in lanes
+          uint32_t* run = row + in.x[0];
+          for (int i = 0; i < in.count; ++i) ++run[i];
+        } else {
+          for (int i = 0; i < in.count; ++i) ++row[in.x[i]];
+        }
         thread_local struct { uint64_t frame = 0, pending = 0; } local;
         if (local.frame != frameId) local = {frameId, 0};
         if ((local.pending += uint64_t(in.count)) < 4096) return;
