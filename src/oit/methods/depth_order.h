@@ -8,8 +8,10 @@
 // order is the same). With AVX2, each insertion compares the new key with the last eight sorted
 // ones in vector lanes and moves them in registers, so that a fragment that belongs up to seven
 // places back costs no mispredicted branch (a scalar insertion mispredicts once per fragment
-// that moves); one that belongs further back takes the scalar step. Keys with NaN, and CPUs
-// without AVX2, take the scalar way throughout. Every way gives the one order.
+// that moves); one that belongs further back takes the scalar step. The lanes compare view depths
+// alone and then order each run of equal view depths by window depth, which gives the same order.
+// Keys with NaN, and CPUs without AVX2, take the scalar way throughout. Every way gives the one
+// order.
 #pragma once
 
 #include <cstdint>
