@@ -179,6 +179,19 @@ TEST_CASE("Image::fetch gives decodeTexel's bits for every format, fp32 payloads
         INFO(name << " fetchRow texel (" << xs[i] << ", " << y << ")");
         CHECK(std::memcmp(&row[i], &want, sizeof want) == 0);
       }
+      // fetchRun: the run from each column to the row's end (fp32 copied at once, the decoders
+      // with consecutive texels), every texel against decodeTexel, and nothing written past n.
+      for (int x0 = 0; x0 < 3; ++x0) {
+        glm::vec4 run[4];
+        std::memset(run, 0x5a, sizeof run);
+        image.fetchRun(y, x0, 3 - x0, run);
+        for (int i = 0; i < 3 - x0; ++i) {
+          const glm::vec4 want = decodeTexel(f, image.texel(x0 + i, y));
+          INFO(name << " fetchRun texel (" << x0 + i << ", " << y << ")");
+          CHECK(std::memcmp(&run[i], &want, sizeof want) == 0);
+        }
+        for (int b = 16 * (3 - x0); b < int(sizeof run); ++b) CHECK(reinterpret_cast<const uint8_t*>(run)[b] == 0x5a);
+      }
     }
   }
 }

@@ -475,3 +475,42 @@ TEST_CASE("methods: premultiplied colours in lanes are glm's products, bit for b
     REQUIRE(bitsOf(p.a) == bitsOf(c.a));
   }
 }
+
+TEST_CASE("methods: a colour over a kept background in lanes is glm's arithmetic, bit for bit", "[methods]") {
+  // plusScaledOpaque(a, b, s) = (a.rgb + b.rgb·s, 1) (wsum's composite) against glm's
+  // vec3(a) + vec3(b)·s, and against the product and sum taken in double and rounded once each,
+  // on random bit patterns (NaN, infinities, subnormals, −0) and ordinary colours.
+  test::BitStream rng(31);
+  auto randomFloat = [&](bool bits) {
+    uint32_t b = rng.next();
+    float f;
+    std::memcpy(&f, &b, 4);
+    return bits ? f : rng.uniform(-2.0f, 2.0f);
+  };
+  auto bitsOf = [](float f) {
+    uint32_t b;
+    std::memcpy(&b, &f, 4);
+    return b;
+  };
+  const float specials[] = {-0.0f, 0.0f, 0x1p-149f, -INFINITY, INFINITY, 1.0f};
+  for (int k = 0; k < 20000; ++k) {
+    const bool bits = k % 2 == 0;
+    glm::vec4 a, b;
+    for (int c = 0; c < 4; ++c) a[c] = randomFloat(bits), b[c] = randomFloat(bits);
+    float s = randomFloat(k % 3 == 0);
+    if (k % 7 == 0) a[int(rng.next() % 4)] = specials[rng.next() % 6];
+    if (k % 5 == 0) b[int(rng.next() % 4)] = specials[rng.next() % 6];
+    if (k % 11 == 0) s = specials[rng.next() % 6];
+    const glm::vec4 lanes = methods::plusScaledOpaque(a, b, s);
+    const glm::vec3 glmForm = glm::vec3(a) + glm::vec3(b) * s;
+    for (int ch = 0; ch < 3; ++ch) {
+      INFO("a " << a[ch] << " b " << b[ch] << " s " << s << " channel " << ch);
+      REQUIRE(std::isnan(lanes[ch]) == std::isnan(glmForm[ch]));  // NaN payloads: the operands' order
+      if (std::isnan(glmForm[ch])) continue;
+      REQUIRE(bitsOf(lanes[ch]) == bitsOf(glmForm[ch]));
+      const float product = float(double(b[ch]) * double(s));  // exact in double, then rounded once
+      REQUIRE(bitsOf(lanes[ch]) == bitsOf(float(double(a[ch]) + double(product))));
+    }
+    REQUIRE(bitsOf(lanes.a) == bitsOf(1.0f));
+  }
+}

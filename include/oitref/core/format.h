@@ -65,8 +65,9 @@ glm::vec4 decodeTexel(const Format& format, const uint8_t* texel);
 // Same bits either way.
 using TexelDecoder = glm::vec4 (*)(const Format& format, const uint8_t* texel);
 TexelDecoder texelDecoder(const Format& format);
-// The texels at row + xs[i]·texelBytes for i < n decoded into out, as texelDecoder's function
-// decodes each: one call per row, the decoding inlined into its loop.
+// The texels at row + xs[i]·texelBytes for i < n (at row + i·texelBytes where xs is null: a run)
+// decoded into out, as texelDecoder's function decodes each: one call per row, the decoding
+// inlined into its loop.
 using TexelRowDecoder = void (*)(const Format& format, const uint8_t* row, size_t texelBytes, const int* xs, int n,
                                  glm::vec4* out);
 TexelRowDecoder texelRowDecoder(const Format& format);

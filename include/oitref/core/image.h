@@ -54,22 +54,11 @@ class Image {
     return decoder_(format_, t);
   }
   // fetch(xs[i], y) for i < n, into out: the layout decided once for the row, not per texel.
-  void fetchRow(int y, const int* xs, int n, glm::vec4* out) const {
-    const uint8_t* row = texel(0, y);
-    auto each = [&](auto decode) {
-      for (int i = 0; i < n; ++i) out[i] = decode(row + size_t(xs[i]) * texelBytes_);
-    };
-    const float* u = unorm8_;
-    switch (inlineLayout_) {
-      case InlineLayout::Float32x4: return each([](const uint8_t* t) { glm::vec4 v; std::memcpy(&v, t, 16); return v; });
-      case InlineLayout::Float32x2:
-        return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 8); return v; });
-      case InlineLayout::Float32x1:
-        return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 4); return v; });
-      case InlineLayout::Unorm8x4: return each([u](const uint8_t* t) { return glm::vec4(u[t[0]], u[t[1]], u[t[2]], u[t[3]]); });
-      default: rowDecoder_(format_, row, texelBytes_, xs, n, out);
-    }
-  }
+  void fetchRow(int y, const int* xs, int n, glm::vec4* out) const { fetchColumns(texel(0, y), xs, n, out); }
+  // fetch(x0 + i, y) for i < n: the texels of a run read as one stream (a full-screen pass's
+  // batches, and a span's where every fragment survived), without a column loaded and scaled per
+  // texel; fp32's texels copied at once.
+  void fetchRun(int y, int x0, int n, glm::vec4* out) const { fetchColumns(texel(x0, y), nullptr, n, out); }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
   // fp32 layouts store the bits as they are (encodeTexel's rule), inline: the per-fragment
   // read-modify-write methods (MLAB, k-buffer, hybrid) store a depth or colour per fragment.
@@ -93,6 +82,28 @@ class Image {
 
  private:
   void storeEncoded(uint8_t* texel, const glm::vec4& value, const Profile& profile);
+  // fetchRow's and fetchRun's body: the texels at row + xs[i]·texelBytes, or at row + i·texelBytes
+  // where xs is null.
+  void fetchColumns(const uint8_t* row, const int* xs, int n, glm::vec4* out) const {
+    auto each = [&](auto decode) {
+      if (xs)
+        for (int i = 0; i < n; ++i) out[i] = decode(row + size_t(xs[i]) * texelBytes_);
+      else
+        for (int i = 0; i < n; ++i) out[i] = decode(row + size_t(i) * texelBytes_);
+    };
+    const float* u = unorm8_;
+    switch (inlineLayout_) {
+      case InlineLayout::Float32x4:
+        if (!xs) return std::memcpy(out, row, size_t(n) * 16), void();
+        return each([](const uint8_t* t) { glm::vec4 v; std::memcpy(&v, t, 16); return v; });
+      case InlineLayout::Float32x2:
+        return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 8); return v; });
+      case InlineLayout::Float32x1:
+        return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 4); return v; });
+      case InlineLayout::Unorm8x4: return each([u](const uint8_t* t) { return glm::vec4(u[t[0]], u[t[1]], u[t[2]], u[t[3]]); });
+      default: rowDecoder_(format_, row, texelBytes_, xs, n, out);
+    }
+  }
   Format format_{};
   int width_ = 0, height_ = 0;
   size_t texelBytes_ = 0;

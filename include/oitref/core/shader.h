@@ -14,6 +14,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "oitref/core/image.h"
 #include "oitref/core/pipeline_state.h"
 
 namespace oitref {
@@ -64,6 +65,9 @@ struct FragmentBatch {
   // Bit k (k < 64): attribute k holds one value in every fragment of the batch (the rasterizer's
   // flat attributes), so a shader may read it once. A hint: 0 promises nothing.
   uint64_t uniformAttributes = 0;
+  // x[i] = x[0] + i for every fragment: a run of the row's pixels (a full-screen pass's batches,
+  // and a span's where every fragment survived). A hint: false promises nothing.
+  bool run = false;
   bool frontFacing = true;
   uint32_t primitiveId = 0;
   uint32_t drawId = 0;
@@ -89,6 +93,7 @@ struct FragmentBatch {
   static FragmentBatch of(const FragmentInput& in) {
     FragmentBatch b;
     b.count = 1;
+    b.run = true;
     b.y = in.y;
     b.x = &in.x;
     b.depth = &in.depth;
@@ -316,6 +321,13 @@ FragmentProgram programOfBatch(BatchShader shader, bool mayDiscard = false, bool
                           mayDiscard, false, false, {}, pure};
   program.batch = std::move(shader);
   return program;
+}
+
+// texelFetch of image at each fragment's pixel, into out (Image::fetchRow); a run's texels as one
+// stream (Image::fetchRun).
+inline void fetchTexels(const Image& image, const FragmentBatch& in, glm::vec4* out) {
+  if (in.run && in.count > 0) image.fetchRun(in.y, in.x[0], in.count, out);
+  else image.fetchRow(in.y, in.x, in.count, out);
 }
 
 }  // namespace oitref

@@ -85,7 +85,12 @@ class Arith {
   // `deferred`: where not null, an operation does not fix its rare lanes (NaN, tiny) itself but
   // marks them there, and the caller runs the whole blend again without it when any is marked
   // (blendTexels): one test per chunk of pixels instead of one per operation, the same bits.
-  Arith(bool flush, bool fma, VI* deferred = nullptr) : flush_(flush), fma_(fma), deferred_(deferred) {}
+  // `hardware`: the caller has set DAZ and FTZ in the MXCSR (FlushInHardware), as llvmpipe's
+  // threads run: the arithmetic flushes by itself, and only NaN lanes are rare. minps and maxps
+  // still read their operands through daz: compiled as a compare and a select, they return an
+  // operand as it is, not as DAZ read it.
+  Arith(bool flush, bool fma, VI* deferred = nullptr, bool hardware = false)
+      : flush_(flush), fma_(fma), hardware_(flush && hardware), deferred_(deferred) {}
 
   LP_INLINE VecT add(const VecT& a, const VecT& b) const {
     if (a.kind == VecT::Zero) return b;
@@ -119,11 +124,11 @@ class Arith {
   // lp_build_mad: llvm.fmuladd, one rounding on CPUs with FMA.
   LP_INLINE VecT mad(const VecT& a, const VecT& b, const VecT& c) const {
     if (!fma_) return add(mul(a, b), c);
-    const V x = daz(a.v), y = daz(b.v), z = daz(c.v);
+    const V x = arithmeticDaz(a.v), y = arithmeticDaz(b.v), z = arithmeticDaz(c.v);
     V r = fusedMultiplyAdd(x, y, z);
     // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
     const VI magnitude = (VI)r & 0x7fffffff;
-    const VI special = (magnitude > 0x7f800000) | (flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : VI{});
+    const VI special = (magnitude > 0x7f800000) | (softwareFlush() ? (magnitude <= 0x00800000) & (magnitude != 0) : VI{});
     if (deferred_) {
       *deferred_ |= special;
       return VecT::of(r);
@@ -173,12 +178,12 @@ class Arith {
   // scalar rule above, so the bits are those of ftz per lane.
   template <typename Op>
   LP_INLINE VecT lanes(const VecT& a, const VecT& b, Op op) const {
-    const V x = daz(a.v), y = daz(b.v);
+    const V x = arithmeticDaz(a.v), y = arithmeticDaz(b.v);
     V r = op(x, y, splatLanes<V>(1.0f));
     // Lanes that are NaN or may be tiny (rare) take the scalar rules; the test is on the vector.
     const VI magnitude = (VI)r & 0x7fffffff;
     const VI nan = magnitude > 0x7f800000;
-    const VI tiny = flush_ ? (magnitude <= 0x00800000) & (magnitude != 0) : VI{};
+    const VI tiny = softwareFlush() ? (magnitude <= 0x00800000) & (magnitude != 0) : VI{};
     if (deferred_) {
       *deferred_ |= nan | tiny;
       return VecT::of(r);
@@ -209,8 +214,11 @@ class Arith {
     const VI bits = (VI)v;
     return (V)(((bits & 0x7f800000) == 0) ? (bits & int32_t(0x80000000u)) : bits);
   }
+  // The operands of add, sub, mul and mad: flushed here unless the MXCSR does it.
+  LP_INLINE V arithmeticDaz(V v) const { return hardware_ ? v : daz(v); }
+  LP_INLINE bool softwareFlush() const { return flush_ && !hardware_; }
 
-  bool flush_, fma_;
+  bool flush_, fma_, hardware_;
   VI* deferred_;
 };
 
@@ -298,9 +306,10 @@ LP_INLINE Vec<V> lpBlend(const Arith<V>& A, BlendEquation eq, unsigned fs, unsig
 }
 
 template <typename V>
-LP_INLINE V run(const LlvmpipeFloatPlan& plan, const Inputs<V>& in, IntLanesOf<V>* deferred = nullptr) {
+LP_INLINE V run(const LlvmpipeFloatPlan& plan, const Inputs<V>& in, IntLanesOf<V>* deferred = nullptr,
+                bool hardwareFlush = false) {
   const LlvmpipeFloatShape& p = plan.shape;
-  const Arith<V> A(plan.flushDenormals, plan.fma, deferred);
+  const Arith<V> A(plan.flushDenormals, plan.fma, deferred, hardwareFlush);
   const Vec<V> sf = factorVector(A, p.rs, p.as, in), df = factorVector(A, p.rd, p.ad, in);
   Vec<V> result = lpBlend(A, p.eqRgb, p.rs, p.rd, in.src, in.dst, sf, df, p.independent);
   if (p.eqRgb != p.eqAlpha && p.channels > 1 && p.hasAlpha)
@@ -321,12 +330,14 @@ LP_INLINE v4f runPixel(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, 
 struct Lanes8 {
   v8f source, destination, constant, sourceAlpha, destinationAlpha, constantAlpha;
 };
-// `special`: as Arith's deferred (the caller blends the lanes again with it null where it is set).
-LP_INLINE v8f runLanes(const LlvmpipeFloatPlan& plan, const Lanes8& l, IntLanesOf<v8f>* special) {
+// `special`: as Arith's deferred (the caller blends the lanes again with it null where it is set);
+// `hardwareFlush`: as Arith's hardware.
+LP_INLINE v8f runLanes(const LlvmpipeFloatPlan& plan, const Lanes8& l, IntLanesOf<v8f>* special,
+                       bool hardwareFlush = false) {
   const Inputs<v8f> in{Vec<v8f>::of(l.source), Vec<v8f>::of(l.destination), Vec<v8f>::of(l.constant),
                        l.sourceAlpha, l.destinationAlpha, l.constantAlpha, v8i{0, 0, 0, -1, 0, 0, 0, -1},
                        plan.shape.hasAlpha};
-  return run(plan, in, special);
+  return run(plan, in, special, hardwareFlush);
 }
 
 v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
@@ -437,8 +448,9 @@ struct PixelRun {
 // A group's blend with the shape read at run time, out of line, for the general kernels and the
 // rare chunks (blendAgainWithRules): inlined into each, the run-time shape's every branch took 55 s
 // of this file's 86 s compile; the same operations per lane, so the same bits.
-[[gnu::noinline]] LP_AVX2 v8f runLanesOutOfLine(const LlvmpipeFloatPlan& plan, const Lanes8& l, IntLanesOf<v8f>* special) {
-  return runLanes(plan, l, special);
+[[gnu::noinline]] LP_AVX2 v8f runLanesOutOfLine(const LlvmpipeFloatPlan& plan, const Lanes8& l, IntLanesOf<v8f>* special,
+                                                 bool hardwareFlush = false) {
+  return runLanes(plan, l, special, hardwareFlush);
 }
 
 template <typename Pixels>
@@ -454,14 +466,86 @@ template <typename Pixels>
   }
 }
 
+#if defined(__x86_64__)
+// llvmpipe's own floating-point mode for the guard's life: DAZ (bit 6) and FTZ (bit 15) set in
+// the MXCSR, as Mesa sets them for its rasterizer threads (util_fpstate_set_denorms_to_zero);
+// the caller's mode back after.
+class FlushInHardware {
+ public:
+  FlushInHardware() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }
+  ~FlushInHardware() { _mm_setcsr(saved_); }
+  FlushInHardware(const FlushInHardware&) = delete;
+  FlushInHardware& operator=(const FlushInHardware&) = delete;
+
+ private:
+  unsigned saved_;
+};
+#endif
+// Whether a plan's denormal flushes can be left to the MXCSR (x86, and the fused multiply-adds in
+// hardware too: std::fma in software does not follow the MXCSR).
+bool flushesInHardware(const LlvmpipeFloatPlan& plan) {
+#if defined(__x86_64__)
+  return plan.flushDenormals && (!plan.fma || hardwareFma());
+#else
+  (void)plan;
+  return false;
+#endif
+}
+
+// `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
+template <LlvmpipeFloatShape Shape>
+LP_INLINE LlvmpipeFloatPlan withShape(const LlvmpipeFloatPlan& plan) {
+  LlvmpipeFloatPlan p;
+  // Field by field: copied as one object from the template parameter, GCC read the fields back
+  // from memory in the kernel instead of folding them.
+  p.shape.rs = Shape.rs, p.shape.rd = Shape.rd, p.shape.as = Shape.as, p.shape.ad = Shape.ad;
+  p.shape.eqRgb = Shape.eqRgb, p.shape.eqAlpha = Shape.eqAlpha;
+  p.shape.channels = Shape.channels, p.shape.hasAlpha = Shape.hasAlpha, p.shape.independent = Shape.independent;
+  p.flushDenormals = plan.flushDenormals;
+  p.fma = plan.fma;
+  return p;
+}
+// How a kernel knows the shape: compiled in (KnownShape: its folds made when it is compiled, runLanes
+// inlined) or read from the plan at run time (ShapeFromPlan: runLanesOutOfLine).
+template <LlvmpipeFloatShape Shape>
+struct KnownShape {
+  static constexpr bool kKnown = true;
+  LP_INLINE static LlvmpipeFloatPlan of(const LlvmpipeFloatPlan& plan) { return withShape<Shape>(plan); }
+};
+struct ShapeFromPlan {
+  static constexpr bool kKnown = false;
+  LP_INLINE static LlvmpipeFloatPlan of(const LlvmpipeFloatPlan& plan) { return plan; }
+};
+
+// Pixels [begin, end) (whole groups) blended with the rare lanes deferred into `special`, their
+// destinations' lanes kept in `loaded`. Out of line, so that where the MXCSR flushes
+// (HardwareFlush) the call keeps the arithmetic between the guard's two writes of the MXCSR.
+template <int Channels, typename ShapeOf, bool HardwareFlush, typename Pixels>
+[[gnu::noinline]] LP_AVX2 void blendChunk(const LlvmpipeFloatPlan& planGiven, const Lanes8& constants,
+                                          const Pixels& pixels, int begin, int end, v8f* loaded,
+                                          IntLanesOf<v8f>* special, Rounding fp16) {
+  constexpr int P = 8 / Channels;
+  const LlvmpipeFloatPlan plan = ShapeOf::of(planGiven);
+  Lanes8 lanes = constants;
+  IntLanesOf<v8f> rare{};  // in a register: through the pointer, every operation read and wrote memory
+  for (int i = begin, g = 0; i < end; i += P, g += 2) {
+    pixels.loadDestinations(i, lanes.destination, lanes.destinationAlpha);
+    loaded[g] = lanes.destination, loaded[g + 1] = lanes.destinationAlpha;
+    pixels.loadSources(i, lanes.source, lanes.sourceAlpha);
+    if constexpr (ShapeOf::kKnown) pixels.store(i, runLanes(plan, lanes, &rare, HardwareFlush), fp16);
+    else pixels.store(i, runLanesOutOfLine(plan, lanes, &rare, HardwareFlush), fp16);
+  }
+  *special = rare;
+}
+
 // LlvmpipeFloatTexelsFn's and LlvmpipeFloatRunFn's loop, inlined into each compiled function. Up
 // to kChunk pixels are blended with the rare lanes' rules deferred (Arith: one test for the chunk
 // instead of one per operation and group); in the rare chunk that has such a lane, every pixel of
 // it is blended again from the destinations as they were loaded, with the rules applied. The
-// same bits either way.
-// Shape known: whether the shape is compiled in (runLanes inlined) or read at run time
-// (runLanesOutOfLine).
-template <int Channels, bool Half, bool ShapeKnown, typename Pixels>
+// same bits either way. Where the profile flushes denormals, the chunk runs in llvmpipe's own
+// MXCSR mode (FlushInHardware) where it can: the flushes cost nothing then, and only NaN lanes are
+// rare (their payloads follow x86Nan's rule, which does not depend on the compiler's operand order).
+template <int Channels, bool Half, typename ShapeOf, typename Pixels>
 LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const Pixels& pixels, int n,
                           Rounding fp16) {
   constexpr int P = 8 / Channels, kChunk = 64;
@@ -471,43 +555,37 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
   for (v4f& x : cs) x = c;
   gatherLanes<Channels>(cs, lanes.constant, lanes.constantAlpha);
   const int whole = n - n % P;
+  const bool hardware = flushesInHardware(plan);
   for (int chunk = 0; chunk < whole; chunk += kChunk) {
     const int end = chunk + kChunk < whole ? chunk + kChunk : whole;
     v8f loaded[2 * kChunk / P];  // each group's destination lanes and their alphas
     IntLanesOf<v8f> special{};
-    for (int i = chunk, g = 0; i < end; i += P, g += 2) {
-      pixels.loadDestinations(i, lanes.destination, lanes.destinationAlpha);
-      loaded[g] = lanes.destination, loaded[g + 1] = lanes.destinationAlpha;
-      pixels.loadSources(i, lanes.source, lanes.sourceAlpha);
-      if constexpr (ShapeKnown) pixels.store(i, runLanes(plan, lanes, &special), fp16);
-      else pixels.store(i, runLanesOutOfLine(plan, lanes, &special), fp16);
-    }
+#if defined(__x86_64__)
+    if (hardware) {
+      const FlushInHardware mode;
+      blendChunk<Channels, ShapeOf, true>(plan, lanes, pixels, chunk, end, loaded, &special, fp16);
+    } else
+#endif
+      blendChunk<Channels, ShapeOf, false>(plan, lanes, pixels, chunk, end, loaded, &special, fp16);
     if (Arith<v8f>::any(special)) {
-      blendAgainWithRules(plan, lanes.constant, lanes.constantAlpha, pixels.from(chunk), loaded, end - chunk, fp16);
+      blendAgainWithRules(ShapeOf::of(plan), lanes.constant, lanes.constantAlpha, pixels.from(chunk), loaded,
+                          end - chunk, fp16);
     }
   }
+  (void)hardware;
   return whole;
 }
 template <int Channels, bool Half>
 LP_AVX2 int generalTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                           uint8_t* const* texels, int n, Rounding fp16) {
-  return blendTexels<Channels, Half, false>(plan, constant, ScatteredPixels<Channels, Half>{sources, texels}, n, fp16);
+  return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, ScatteredPixels<Channels, Half>{sources, texels}, n, fp16);
 }
 template <int Channels, bool Half>
 LP_AVX2 int generalRun(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
                        uint8_t* texels, int n, Rounding fp16) {
-  return blendTexels<Channels, Half, false>(plan, constant, PixelRun<Channels, Half>{sources, texels}, n, fp16);
+  return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, PixelRun<Channels, Half>{sources, texels}, n, fp16);
 }
 
-// `run` with the shape a compile-time constant; only the denormal mode and fma stay variables.
-template <LlvmpipeFloatShape Shape>
-LlvmpipeFloatPlan withShape(const LlvmpipeFloatPlan& plan) {
-  LlvmpipeFloatPlan p;
-  p.shape = Shape;
-  p.flushDenormals = plan.flushDenormals;
-  p.fma = plan.fma;
-  return p;
-}
 template <LlvmpipeFloatShape Shape>
 v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destination) {
   return runPixel(withShape<Shape>(plan), constant, source, destination);
@@ -515,13 +593,13 @@ v4f compiled(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destin
 template <LlvmpipeFloatShape Shape, bool Half>
 LP_AVX2 int compiledTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                            uint8_t* const* texels, int n, Rounding fp16) {
-  return blendTexels<Shape.channels, Half, true>(withShape<Shape>(plan), constant,
+  return blendTexels<Shape.channels, Half, KnownShape<Shape>>(plan, constant,
                                            ScatteredPixels<Shape.channels, Half>{sources, texels}, n, fp16);
 }
 template <LlvmpipeFloatShape Shape, bool Half>
 LP_AVX2 int compiledRun(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
                         uint8_t* texels, int n, Rounding fp16) {
-  return blendTexels<Shape.channels, Half, true>(withShape<Shape>(plan), constant, PixelRun<Shape.channels, Half>{sources, texels},
+  return blendTexels<Shape.channels, Half, KnownShape<Shape>>(plan, constant, PixelRun<Shape.channels, Half>{sources, texels},
                                            n, fp16);
 }
 

@@ -92,14 +92,23 @@ struct PixelRun {
 };
 
 // The conversion alone (blending disabled) into four 8-bit UNORM channels: the rounding rule
-// chosen once for the run, not per pixel, and two pixels' codes narrowed and stored together
-// (each pixel's codes are encodeUnorm4's, so the bits of one pixel at a time).
+// chosen once for the run, not per pixel, and two pixels' codes narrowed and stored together, four
+// in a run (each pixel's codes are encodeUnorm4's, so the bits of one pixel at a time).
 template <typename Pixels>
 void encodeUnorm8Pixels(UnormRounding rounding, const Pixels& pixels, int n) {
   auto run = [&](auto rule) {
     constexpr UnormRounding kRule = decltype(rule)::value;
     int i = 0;
 #if defined(__SSE2__)
+    if constexpr (std::is_same_v<Pixels, PixelRun<4>>) {  // a run: four pixels' codes in one 16-byte store
+      for (; i + 4 <= n; i += 4) {
+        const __m128i lo = _mm_packs_epi32(__m128i(encodeUnorm4(load4(pixels.source(i)), 8, kRule)),
+                                           __m128i(encodeUnorm4(load4(pixels.source(i + 1)), 8, kRule)));
+        const __m128i hi = _mm_packs_epi32(__m128i(encodeUnorm4(load4(pixels.source(i + 2)), 8, kRule)),
+                                           __m128i(encodeUnorm4(load4(pixels.source(i + 3)), 8, kRule)));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(pixels.texel(i)), _mm_packus_epi16(lo, hi));
+      }
+    }
     for (; i + 2 <= n; i += 2) {
       const v4i a = encodeUnorm4(load4(pixels.source(i)), 8, kRule), b = encodeUnorm4(load4(pixels.source(i + 1)), 8, kRule);
       const __m128i words = _mm_packs_epi32(__m128i(a), __m128i(b));  // exact for 0..255
@@ -259,8 +268,8 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
 
 namespace {
 
-// keptPixels's tests, one per texel layout, without branches: one runs over a whole run before
-// any of it blends.
+// keptPixels's tests: the source's for the whole run first, then one per texel layout, without
+// branches inside, for the texels of the empty sources.
 inline bool isEmptyPixel(const glm::vec4& source) {  // (+0, +0, +0, 1) exactly
 #if defined(__SSE2__)
   const __m128i s = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&source[0]));
@@ -312,22 +321,30 @@ inline bool floatKept4(const uint8_t* texel, bool flushes) {
 }  // namespace
 
 uint64_t TargetBlender::keptPixels(const glm::vec4* sources, const uint8_t* texels, int n) const {
-  uint64_t kept = 0;
-  if (!skipsEmptyPixels_) return kept;
+  uint64_t empty = 0;
+  if (!skipsEmptyPixels_) return empty;
+  for (int i = 0; i < n; ++i) empty |= uint64_t(isEmptyPixel(sources[i])) << i;
+  // The texels only of the empty sources: where transparent layers cover the screen, none is
+  // read (they were read twice, here and by the blend).
   const int channels = format_.channels;
   const size_t bytes = texelBytes_;
   const bool flushes = floatFlushesDenormals_;
   const ChannelEncoding encoding = format_.encoding();  // the test for the layout chosen once
+  auto keepWhere = [&](auto kept) {
+    uint64_t result = 0;
+    for (uint64_t left = empty; left; left &= left - 1) {
+      const int i = __builtin_ctzll(left);
+      result |= uint64_t(kept(texels + size_t(i) * bytes)) << i;
+    }
+    return result;
+  };
   if (encoding == ChannelEncoding::Half)
-    for (int i = 0; i < n; ++i) kept |= uint64_t(isEmptyPixel(sources[i]) & halfKept(texels + size_t(i) * bytes, channels)) << i;
-  else if (encoding == ChannelEncoding::Float32 && channels == 4)
-    for (int i = 0; i < n; ++i) kept |= uint64_t(isEmptyPixel(sources[i]) & floatKept4(texels + size_t(i) * bytes, flushes)) << i;
-  else if (encoding == ChannelEncoding::Float32)
-    for (int i = 0; i < n; ++i)
-      kept |= uint64_t(isEmptyPixel(sources[i]) & floatKept(texels + size_t(i) * bytes, channels, flushes)) << i;
-  else  // UNORM8: every code
-    for (int i = 0; i < n; ++i) kept |= uint64_t(isEmptyPixel(sources[i])) << i;
-  return kept;
+    return keepWhere([channels](const uint8_t* t) { return halfKept(t, channels); });
+  if (encoding == ChannelEncoding::Float32 && channels == 4)
+    return keepWhere([flushes](const uint8_t* t) { return floatKept4(t, flushes); });
+  if (encoding == ChannelEncoding::Float32)
+    return keepWhere([channels, flushes](const uint8_t* t) { return floatKept(t, channels, flushes); });
+  return empty;  // UNORM8: every code
 }
 
 void TargetBlender::blendRunKeeping(const glm::vec4* sources, uint8_t* texels, int n) const {

@@ -207,14 +207,19 @@ glm::vec4 decodeFixedLayout(const Format&, const uint8_t* texel) {
 
 template <ChannelEncoding E, int Bytes, int Channels>
 void decodeFixedLayoutRow(const Format&, const uint8_t* row, size_t texelBytes, const int* xs, int n, glm::vec4* out) {
-  if constexpr (E == ChannelEncoding::Half && Channels == 4) {  // RGBA16F: the four halves of a texel at once
-    for (int i = 0; i < n; ++i) detail::decodeHalf4Inline(row + size_t(xs[i]) * 8, &out[i].x);
-    return;
-  }
-  for (int i = 0; i < n; ++i) out[i] = decodeChannels<E, Bytes>(Channels, row + size_t(xs[i]) * texelBytes);
+  auto each = [&](auto decode) {
+    if (xs)
+      for (int i = 0; i < n; ++i) decode(row + size_t(xs[i]) * texelBytes, out[i]);
+    else
+      for (int i = 0; i < n; ++i) decode(row + size_t(i) * texelBytes, out[i]);
+  };
+  if constexpr (E == ChannelEncoding::Half && Channels == 4)  // RGBA16F: the four halves of a texel at once
+    each([](const uint8_t* t, glm::vec4& v) { detail::decodeHalf4Inline(t, &v.x); });
+  else
+    each([](const uint8_t* t, glm::vec4& v) { v = decodeChannels<E, Bytes>(Channels, t); });
 }
 void decodeRow(const Format& f, const uint8_t* row, size_t texelBytes, const int* xs, int n, glm::vec4* out) {
-  for (int i = 0; i < n; ++i) out[i] = decodeTexel(f, row + size_t(xs[i]) * texelBytes);
+  for (int i = 0; i < n; ++i) out[i] = decodeTexel(f, row + size_t(xs ? xs[i] : i) * texelBytes);
 }
 
 // The kernel for the format's layout: kernel.operator()<E, Bytes, Channels>() for the layouts

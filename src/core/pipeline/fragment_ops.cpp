@@ -323,7 +323,7 @@ void FragmentStage::positionSpan(int y, double yn, int x0, int x1) {
         batchViewDepth_[i] = std::numeric_limits<float>::quiet_NaN();
         if (!planeDepth_) batchDepth_[i] = std::numeric_limits<float>::quiet_NaN();
       }
-      shadeAndBlendBatch(y, n);
+      shadeAndBlendBatch(y, n, true);
     } else if (v == RunVerdict::AllFail) {
       counters_.rasterized += uint64_t(n);
       counters_.depthFailed += uint64_t(n);
@@ -386,7 +386,7 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n, bool passes) {
       }
       std::memcpy(batchZ_, z, sizeof(double) * size_t(n));
       batchUniform_ = interpolateAttributesBatch(b0, b1, b2, count, batchAttributes_.data());
-      shadeAndBlendBatch(y, count);
+      shadeAndBlendBatch(y, count, true);
       return;
     }
     double c0[kBatch], c1[kBatch], c2[kBatch];
@@ -400,7 +400,7 @@ void FragmentStage::spanBatch(int y, double yn, int start, int n, bool passes) {
     }
     for (int j = count; j % 4; ++j) c0[j] = c1[j] = c2[j] = 0.0;  // the last lanes' inputs: defined
     batchUniform_ = interpolateAttributesBatch(c0, c1, c2, count, batchAttributes_.data());
-    shadeAndBlendBatch(y, count);
+    shadeAndBlendBatch(y, count, false);
     return;
   }
   int blended = 0;
@@ -447,12 +447,13 @@ void FragmentStage::prefetchDepthRow(int y, int x0, int x1) const {
   for (int b = 0; b < bytes + 63; b += 64) __builtin_prefetch(row + b);
 }
 
-void FragmentStage::shadeAndBlendBatch(int y, int count) {
+void FragmentStage::shadeAndBlendBatch(int y, int count, bool run) {
   if (count == 0) return;  // a batch shader never gets an empty batch
   outputs_.reset(count);
   FragmentBatch batch;
   batch.count = count;
   batch.y = y;
+  batch.run = run;
   batch.x = batchX_;
   batch.depth = batchDepth_;
   batch.viewDepth = batchViewDepth_;
@@ -507,11 +508,22 @@ void FragmentStage::shadeAndBlendBatch(int y, int count) {
 }
 
 void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
+  const bool depthTest = earlyDepthTest_ || earlyReject_;
+  if (program_->batch && !depthTest) {
+    // Every pixel is a fragment at depth 0 (view depth 1): those lanes once per row, then only
+    // the columns per batch.
+    const int lanes = std::min(kBatch, x1 - x0);
+    for (int i = 0; i < lanes; ++i) batchZ_[i] = 0.0, batchDepth_[i] = 0.0f, batchViewDepth_[i] = 1.0f;
+  }
   for (int start = x0; start < x1; start += kBatch) {
     const int n = std::min(kBatch, x1 - start);
     counters_.rasterized += uint64_t(n);
+    if (program_->batch && !depthTest) {
+      for (int i = 0; i < n; ++i) batchX_[i] = start + i;
+      shadeAndBlendBatch(y, n, true);
+      continue;
+    }
     if (program_->batch) {
-      const bool depthTest = earlyDepthTest_ || earlyReject_;
       int count = 0;
       for (int i = 0; i < n; ++i) {
         if (depthTest && !earlyTest(start + i, y, 0.0)) continue;
@@ -520,7 +532,7 @@ void FragmentStage::fullscreenSpan(int y, int x0, int x1) {
         batchDepth_[count] = 0.0f;
         batchViewDepth_[count++] = 1.0f;
       }
-      shadeAndBlendBatch(y, count);
+      shadeAndBlendBatch(y, count, count == n);
       continue;
     }
     int alive = 0;

@@ -111,7 +111,8 @@ class FragmentStage {
   }
   // The batch path: the fragments [0, count) of row y in the batch arrays (batchX_, batchZ_, …),
   // early-tested already, shaded by one program_->batch call, then afterShader and blending.
-  void shadeAndBlendBatch(int y, int count);
+  // `run`: the columns are batchX_[0] + i (FragmentBatch::run).
+  void shadeAndBlendBatch(int y, int count, bool run);
   // span() for a draw whose program reads neither depths nor attributes (positionOnly_), or only
   // attributes that are the same at every pixel of the triangle in the tile (flatTriangle_): runs
   // that provably pass the depth test go to the shader as they are, without interpolation.

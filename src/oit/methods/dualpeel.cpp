@@ -121,8 +121,8 @@ class Dualpeel final : public OpaqueFirstMethod {
       run.transparentBatchPass("peel " + std::to_string(pass), fb, maxState,
                                [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
                                  glm::vec4 ranges[kShaderBatch], fronts[kShaderBatch];
-                                 depthPrev.fetchRow(in.y, in.x, in.count, ranges);
-                                 frontPrev.fetchRow(in.y, in.x, in.count, fronts);
+                                 fetchTexels(depthPrev, in, ranges);
+                                 fetchTexels(frontPrev, in, fronts);
                                  for (int i = 0; i < in.count; ++i) peel(in.depth[i], colors[i], ranges[i], fronts[i], writes, out, i);
                                });
       // The back layer OVER the background; the draw count is the sample's occlusion query.

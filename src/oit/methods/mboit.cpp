@@ -188,9 +188,9 @@ class Mboit final : public OpaqueFirstMethod {
                                  float absorbance[kShaderBatch];
                                  absorbancesOf(colors, count, absorbance);
                                  glm::vec4 b0s[kShaderBatch], lo[kShaderBatch], hi[kShaderBatch];
-                                 b0Image.fetchRow(in.y, in.x, count, b0s);
-                                 momentImages[0]->fetchRow(in.y, in.x, count, lo);
-                                 if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
+                                 fetchTexels(b0Image, in, b0s);
+                                 fetchTexels(*momentImages[0], in, lo);
+                                 if (momentImages[1]) fetchTexels(*momentImages[1], in, hi);
                                  int xs[kShaderBatch], n = 0;  // the fragments that add moments, and their texels
                                  for (int i = 0; i < count; ++i) {
                                    const float a = absorbance[i];
@@ -255,8 +255,8 @@ class Mboit final : public OpaqueFirstMethod {
       accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
         const int count = in.count;
         glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch];
-        b0Image.fetchRow(in.y, in.x, count, b0Texels);
-        momentImages[0]->fetchRow(in.y, in.x, count, lo);
+        fetchTexels(b0Image, in, b0Texels);
+        fetchTexels(*momentImages[0], in, lo);
         int used[kShaderBatch], n = 0;
         float moments[kShaderBatch * 4], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
         bool fellBack[kShaderBatch];
@@ -288,11 +288,11 @@ class Mboit final : public OpaqueFirstMethod {
         int used[kShaderBatch], n = 0;
         float moments[kShaderBatch * 8], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
         bool fellBack[kShaderBatch];
-        // The batch's texels a row at a time (Image::fetchRow: the layout decided once).
+        // The batch's texels a row at a time (fetchTexels: the layout decided once).
         glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch], hi[kShaderBatch];
-        b0Image.fetchRow(in.y, in.x, count, b0Texels);
-        momentImages[0]->fetchRow(in.y, in.x, count, lo);
-        if (momentImages[1]) momentImages[1]->fetchRow(in.y, in.x, count, hi);
+        fetchTexels(b0Image, in, b0Texels);
+        fetchTexels(*momentImages[0], in, lo);
+        if (momentImages[1]) fetchTexels(*momentImages[1], in, hi);
         for (int i = 0; i < count; ++i) {
           const float b0 = b0Texels[i].r;
           if (b0 < kClearB0) continue;

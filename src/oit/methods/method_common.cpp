@@ -21,8 +21,8 @@ void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accu
   run.blendOverBackgroundBatch(targets, [&](const FragmentBatch& in, glm::vec4* s) {
     glm::vec4 a[kShaderBatch];
     float t[kShaderBatch];
-    accum.fetchRow(in.y, in.x, in.count, a);
-    reveal.fetchRow(in.y, in.x, in.count, s);  // s as scratch: the revealage's texels
+    fetchTexels(accum, in, a);
+    fetchTexels(reveal, in, s);  // s as scratch: the revealage's texels
     for (int i = 0; i < in.count; ++i) t[i] = s[i].r;
     weightedResolveRow(a, t, in.count, s, clamp);
   });

@@ -84,6 +84,17 @@ inline glm::vec4 premultiplied(const glm::vec4& c) { return vec4Of(premultiplied
 inline glm::vec4 premultiplied(const glm::vec4& c, float w) {
   return vec4Of(premultipliedLanes(c) * Float4Lanes{w, w, w, w});
 }
+// (a.rgb + b.rgb·s, 1): a colour over a background b that keeps the weight s (wsum's composite,
+// thesis Algorithm 2 step 11), each channel's product and sum rounded once in fp32 as in glm's
+// vec3(a) + vec3(b)·s, in four vector lanes. GCC vectorised glm's form across the batch's pixels
+// with a shuffle or two per channel: a fifth of the composite's time.
+inline glm::vec4 plusScaledOpaque(const glm::vec4& a, const glm::vec4& b, float s) {
+  Float4Lanes va, vb;
+  std::memcpy(&va, &a, sizeof va);
+  std::memcpy(&vb, &b, sizeof vb);
+  const Float4Lanes r = va + vb * Float4Lanes{s, s, s, s};
+  return vec4Of(__builtin_shufflevector(r, Float4Lanes{1.0f, 1.0f, 1.0f, 1.0f}, 0, 1, 2, 4));
+}
 
 // The accumulation pass of McGuire–Bavoil eq. 6 (listing 3), which WBOIT, MBOIT and MT share:
 // accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,

@@ -241,7 +241,7 @@ void PassRunner::compositeOntoBackgroundsBatch(FrameTargets& targets, const std:
     glm::vec3 background[2][kShaderBatch], result[2][kShaderBatch];
     bool resolved[kShaderBatch];
     for (int t = 0; t < 2; ++t) {
-      (t == 0 ? opaque : analysis).fetchRow(in.y, in.x, in.count, texels);
+      fetchTexels(t == 0 ? opaque : analysis, in, texels);
       for (int i = 0; i < in.count; ++i) background[t][i] = glm::vec3(texels[i]);
     }
     const glm::vec3* const backgrounds[2] = {background[0], background[1]};

@@ -69,7 +69,7 @@ class Peel final : public OpaqueFirstMethod {
       run.fullscreenProgram("under " + std::to_string(pass + 1), accumFb, under,  // step 11
                             programOfBatch([&](const FragmentBatch& in, FragmentBatchOutput& out) {
                               glm::vec4 c[kShaderBatch];
-                              layer.fetchRow(in.y, in.x, in.count, c);
+                              fetchTexels(layer, in, c);
                               for (int i = 0; i < in.count; ++i) out.write(i, 0, c[i]);
                             }));
       peeledDepth = layerDepth;                                     // step 13: D3 ← D2

@@ -41,13 +41,13 @@ class Wsum final : public Method {
     plain.profile = context.profile;
     run.fullscreenProgram("composite", out, plain, programOfBatch([&](const FragmentBatch& in, FragmentBatchOutput& o) {
       glm::vec4 sum[kShaderBatch], c1[kShaderBatch], c0[kShaderBatch];
-      accum.fetchRow(in.y, in.x, in.count, sum);
-      opaque.fetchRow(in.y, in.x, in.count, c1);
-      analysis.fetchRow(in.y, in.x, in.count, c0);
+      fetchTexels(accum, in, sum);
+      fetchTexels(opaque, in, c1);
+      fetchTexels(analysis, in, c0);
       for (int i = 0; i < in.count; ++i) {
         const float background = 1.0f - sum[i].a;
-        o.write(i, 0, glm::vec4(glm::vec3(sum[i]) + glm::vec3(c1[i]) * background, 1.0f));
-        o.write(i, 1, glm::vec4(glm::vec3(sum[i]) + glm::vec3(c0[i]) * background, 1.0f));
+        o.write(i, 0, plusScaledOpaque(sum[i], c1[i], background));  // (C2.rgb + C1.rgb·(1 − C2.a), 1)
+        o.write(i, 1, plusScaledOpaque(sum[i], c0[i], background));
       }
     }));
     t.finish(result, final_);
