@@ -7,6 +7,10 @@
 #include <utility>
 #include <vector>
 
+#if defined(__x86_64__)
+#include <xmmintrin.h>
+#endif
+
 #include "blend/method_blend_states.h"
 #include "blend/target_blender.h"
 #include "support.h"
@@ -237,3 +241,31 @@ TEST_CASE("blend: a run skips exactly the pixels whose bits the composite keeps"
   }
   CHECK(compared == 9 * 6 * 3 * 2);
 }
+
+#if defined(__x86_64__)
+// The llvmpipe float kernels blend chunks with DAZ and FTZ set in the MXCSR (llvmpipe's own mode)
+// and put back the mode of the thread that made the blender: whatever that mode is (here
+// rounding toward zero, the exception masks changed), the thread has it again after a run and a
+// batch, and a blender made in the default mode leaves the default mode.
+TEST_CASE("blend: llvmpipe's float kernels leave the thread's MXCSR as they found it", "[blend]") {
+  const unsigned original = _mm_getcsr();
+  for (unsigned mode : {original, (original & ~0x6000u) | 0x6000u, original & ~0x0080u}) {
+    _mm_setcsr(mode);
+    for (const char* name : {"rgba32f", "r32f"}) {
+      const Format f = parseFormat(name);
+      const detail::TargetBlender blender(f, detail::states::kAdditive, glm::vec4(0.0f), llvmpipeProfile(), true, false);
+      std::vector<glm::vec4> sources(70, glm::vec4(0.25f, 1e-40f, -0.5f, 0.75f));
+      std::vector<uint8_t> texels(70 * size_t(f.bytesPerTexel()), 0);
+      std::vector<const glm::vec4*> sourcePointers;
+      std::vector<uint8_t*> texelPointers;
+      for (int i = 0; i < 70; ++i)
+        sourcePointers.push_back(&sources[size_t(i)]), texelPointers.push_back(&texels[size_t(i * f.bytesPerTexel())]);
+      blender.blendRun(sources.data(), texels.data(), 70);
+      CHECK(_mm_getcsr() == mode);
+      blender.blendBatch(sourcePointers.data(), texelPointers.data(), 70);
+      CHECK(_mm_getcsr() == mode);
+    }
+  }
+  _mm_setcsr(original);
+}
+#endif

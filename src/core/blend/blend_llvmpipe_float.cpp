@@ -472,7 +472,8 @@ template <typename Pixels>
 // the caller's mode back after.
 class FlushInHardware {
  public:
-  FlushInHardware() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }
+  // `caller`: the MXCSR now (LlvmpipeFloatPlan::callerMxcsr), or 0 to read it.
+  explicit FlushInHardware(unsigned caller) : saved_(caller ? caller : _mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }
   ~FlushInHardware() { _mm_setcsr(saved_); }
   FlushInHardware(const FlushInHardware&) = delete;
   FlushInHardware& operator=(const FlushInHardware&) = delete;
@@ -562,7 +563,7 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
     IntLanesOf<v8f> special{};
 #if defined(__x86_64__)
     if (hardware) {
-      const FlushInHardware mode;
+      const FlushInHardware mode(plan.callerMxcsr);
       blendChunk<Channels, ShapeOf, true>(plan, lanes, pixels, chunk, end, loaded, &special, fp16);
     } else
 #endif
@@ -641,6 +642,14 @@ constexpr auto compiledTable(std::index_sequence<J...>) {
 constexpr auto kCompiled = compiledTable(std::make_index_sequence<kStateLayoutCount>());
 
 }  // namespace
+
+uint32_t floatModeOfThisThread() {
+#if defined(__x86_64__)
+  return _mm_getcsr();
+#else
+  return 0;
+#endif
+}
 
 LlvmpipeFloatBlendFn llvmpipeFloatBlendFor(const LlvmpipeFloatShape& shape, bool specialised) {
   if (specialised)

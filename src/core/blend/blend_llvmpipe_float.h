@@ -47,7 +47,14 @@ constexpr LlvmpipeFloatShape llvmpipeFloatShape(int channels, bool hasAlpha, con
 struct LlvmpipeFloatPlan {
   LlvmpipeFloatShape shape;
   bool flushDenormals = true, fma = false;
+  // x86: the MXCSR of the thread that made the plan (floatModeOfThisThread), which the eight-lane
+  // kernels put back after each chunk they blend with DAZ and FTZ set: reading it per call cost as
+  // much as the chunk's blend. 0: read per call. A plan is used on the thread that made it, or on
+  // one in the same floating-point mode (the renderer's workers run in their arena's).
+  uint32_t callerMxcsr = 0;
 };
+// The calling thread's MXCSR on x86 (LlvmpipeFloatPlan::callerMxcsr), else 0.
+uint32_t floatModeOfThisThread();
 
 // Blends fp32 `source` and `destination` (the texel decoded) as the plan says; the result is
 // converted into the format by the caller.

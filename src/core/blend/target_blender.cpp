@@ -238,6 +238,7 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
     llvmpipePlan_.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
     llvmpipePlan_.flushDenormals = flushDenormals_;
     llvmpipePlan_.fma = profile.fma;
+    llvmpipePlan_.callerMxcsr = flushDenormals_ ? floatModeOfThisThread() : 0;
     llvmpipeBlend_ = llvmpipeFloatBlendFor(llvmpipePlan_.shape, allowFastPath);
     use<llvmpipeFloatKernel>();
     const int c = format.channels;
