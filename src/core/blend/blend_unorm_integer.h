@@ -59,6 +59,11 @@ UnormIntegerBlendFn unormIntegerBlendFor(const UnormIntegerPlan& plan, bool spec
 using UnormIntegerBatchFn = void (*)(const UnormIntegerPlan&, const glm::vec4* const* sources, uint8_t* const* texels,
                                      int n);
 UnormIntegerBatchFn unormIntegerBatchFor(const UnormIntegerPlan& plan, bool specialised = true, bool allowAvx2 = true);
+// Over a run of consecutive RGBA8 texels: sources[i] into the i-th texel for the first whole
+// groups of four pixels of [0, n) (16-bit lanes, AVX2); returns how many that was, the caller
+// blends the rest. Null where there is none (not RGBA8, not a method state, no AVX2).
+using UnormIntegerRunFn = int (*)(const UnormIntegerPlan&, const glm::vec4* sources, uint8_t* texels, int n);
+UnormIntegerRunFn unormIntegerRunFor(const UnormIntegerPlan& plan, bool specialised = true);
 
 void blendUnormInteger(const Format& format, const BlendState& state, const glm::vec4& constant, UnormRounding rounding,
                        const glm::vec4& source, unsigned writeMask, uint8_t* texel);

@@ -231,9 +231,10 @@ TargetBlender::TargetBlender(const Format& format, const BlendState& state, cons
     unormPlan_ = planUnormInteger(format, state, constant, profile.unorm, mask_);
     unormBlend_ = unormIntegerBlendFor(unormPlan_, allowFastPath);
     unormBatch_ = unormIntegerBatchFor(unormPlan_, allowFastPath);
+    unormRun_ = unormIntegerRunFor(unormPlan_, allowFastPath);
     kernel_ = integerUnormKernel;
     batchKernel_ = integerUnormBatch;
-    runKernel_ = runThroughBatch;
+    runKernel_ = unormRun_ ? integerUnormRun : runThroughBatch;
   } else if (state.enabled && profile.floatBlend == FloatBlend::Llvmpipe && !format.isUnorm()) {
     llvmpipePlan_.shape = llvmpipeFloatShape(format.channels, format.hasAlpha(), state);
     llvmpipePlan_.flushDenormals = flushDenormals_;
@@ -443,6 +444,11 @@ void TargetBlender::integerUnormKernel(const TargetBlender& b, const glm::vec4& 
 void TargetBlender::integerUnormBatch(const TargetBlender& b, const glm::vec4* const* sources, uint8_t* const* texels,
                                       int n) {
   b.unormBatch_(b.unormPlan_, sources, texels, n);
+}
+
+void TargetBlender::integerUnormRun(const TargetBlender& b, const glm::vec4* sources, uint8_t* texels, int n) {
+  const int done = b.unormRun_(b.unormPlan_, sources, texels, n);
+  if (done < n) runThroughBatch(b, sources + done, texels + size_t(done) * b.texelBytes_, n - done);
 }
 
 template <typename Texels, int Channels, int State>

@@ -96,6 +96,7 @@ class TargetBlender {
   static void genericKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void integerUnormKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   static void integerUnormBatch(const TargetBlender&, const glm::vec4* const*, uint8_t* const*, int);
+  static void integerUnormRun(const TargetBlender&, const glm::vec4*, uint8_t*, int);
   static void llvmpipeFloatKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <int Channels, bool Half> static void llvmpipeFloatTexelKernel(const TargetBlender&, const glm::vec4&, uint8_t*);
   template <int Channels, bool Half>
@@ -134,6 +135,7 @@ class TargetBlender {
   UnormIntegerPlan unormPlan_;
   UnormIntegerBlendFn unormBlend_ = nullptr;
   UnormIntegerBatchFn unormBatch_ = nullptr;
+  UnormIntegerRunFn unormRun_ = nullptr;  // RGBA8 runs four pixels at a time, where there is one
   Kernel kernel_;
   BatchKernel batchKernel_;
   RunKernel runKernel_;
