@@ -19,6 +19,9 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 #include <glm/vec4.hpp>
 
@@ -109,7 +112,9 @@ typedef double v4d __attribute__((vector_size(32)));
 
 // encodeUnorm (oitref/core/unorm.h) four channels at a time, same bits: after the clamp, a product p
 // in [0, 2^52) is rounded to an integer, ties to even, by (p + 2^52) − 2^52 in the default
-// rounding mode (for the fp32 product, p < 2^23 and 2^23 does the same in fp32).
+// rounding mode (for the fp32 product, p < 2^23 and 2^23 does the same in fp32). x86's rounding
+// conversions (cvtps2dq, cvtpd2dq) round in that same mode: one instruction for the two additions
+// and the truncating conversion, the same integer.
 inline v4i encodeUnorm4(v4f v, int bits, UnormRounding rounding) {
   const uint32_t maxCode = (uint32_t(1) << bits) - 1;
   v = clampUnit4(v);
@@ -120,12 +125,20 @@ inline v4i encodeUnorm4(v4f v, int bits, UnormRounding rounding) {
   }
   if (rounding == UnormRounding::Fp32Product) {
     const v4f p = v * float(maxCode);
+#if defined(__SSE2__)
+    return (v4i)_mm_cvtps_epi32((__m128)p);
+#else
     const v4f twoPow23 = splat(8388608.0f);
     return __builtin_convertvector((p + twoPow23) - twoPow23, v4i);
+#endif
   }
   const v4d p = __builtin_convertvector(v, v4d) * double(maxCode);
+#if defined(__AVX__)
+  return (v4i)_mm256_cvtpd_epi32((__m256d)p);
+#else
   const v4d twoPow52 = v4d{4503599627370496.0, 4503599627370496.0, 4503599627370496.0, 4503599627370496.0};
   return __builtin_convertvector((p + twoPow52) - twoPow52, v4i);
+#endif
 }
 
 // IEEE minNum/maxNum; on equality the source (first operand).
