@@ -393,6 +393,22 @@ TEST_CASE("methods: options are checked, with the nearest name for typos", "[met
                     Catch::Contains("A-buffer: at least") && Catch::Contains("exceed max_fragments=100"));
 }
 
+namespace {
+uint32_t bitsOf(float f) {
+  uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return b;
+}
+// A random bit pattern as a float (any class: NaN, infinities, subnormals, −0), or where `bits`
+// is false an ordinary value in [−2, 2); one draw of the pattern either way.
+float randomBitsOrColour(test::BitStream& rng, bool bits) {
+  const uint32_t b = rng.next();
+  float f;
+  std::memcpy(&f, &b, 4);
+  return bits ? f : rng.uniform(-2.0f, 2.0f);
+}
+}  // namespace
+
 TEST_CASE("methods: the weighted resolve of a row is weightedResolve's, bit for bit", "[methods]") {
   // weightedResolveRow (two fragments in eight lanes) against weightedResolve one at a time, and
   // that against the division in double (a float quotient is the double one rounded: 53 ≥ 2·24 + 2
@@ -407,11 +423,6 @@ TEST_CASE("methods: the weighted resolve of a row is weightedResolve's, bit for 
     if (kind == 2) f = rng.uniform(4e4f, 6e4f);
     if (kind == 3) f = rng.uniform(0.0f, 30.0f);
     return f;
-  };
-  auto bitsOf = [](float f) {
-    uint32_t b;
-    std::memcpy(&b, &f, 4);
-    return b;
   };
   for (int row = 0; row < 2000; ++row) {
     const int n = 1 + int(rng.next() % 64);
@@ -440,17 +451,7 @@ TEST_CASE("methods: premultiplied colours in lanes are glm's products, bit for b
   // patterns (NaN, signalling NaN, infinities, subnormals, −0) and ordinary colours. α passes
   // through premultiplied(c) untouched, a signalling NaN included.
   test::BitStream rng(29);
-  auto randomFloat = [&](bool bits) {
-    uint32_t b = rng.next();
-    float f;
-    std::memcpy(&f, &b, 4);
-    return bits ? f : rng.uniform(-2.0f, 2.0f);
-  };
-  auto bitsOf = [](float f) {
-    uint32_t b;
-    std::memcpy(&b, &f, 4);
-    return b;
-  };
+  auto randomFloat = [&](bool bits) { return randomBitsOrColour(rng, bits); };
   auto product = [](float a, float b) { return float(double(a) * double(b)); };
   const float specials[] = {-0.0f, 0.0f, 0x1p-149f, -INFINITY, INFINITY};
   for (int k = 0; k < 20000; ++k) {
@@ -481,17 +482,7 @@ TEST_CASE("methods: a colour over a kept background in lanes is glm's arithmetic
   // vec3(a) + vec3(b)·s, and against the product and sum taken in double and rounded once each,
   // on random bit patterns (NaN, infinities, subnormals, −0) and ordinary colours.
   test::BitStream rng(31);
-  auto randomFloat = [&](bool bits) {
-    uint32_t b = rng.next();
-    float f;
-    std::memcpy(&f, &b, 4);
-    return bits ? f : rng.uniform(-2.0f, 2.0f);
-  };
-  auto bitsOf = [](float f) {
-    uint32_t b;
-    std::memcpy(&b, &f, 4);
-    return b;
-  };
+  auto randomFloat = [&](bool bits) { return randomBitsOrColour(rng, bits); };
   const float specials[] = {-0.0f, 0.0f, 0x1p-149f, -INFINITY, INFINITY, 1.0f};
   for (int k = 0; k < 20000; ++k) {
     const bool bits = k % 2 == 0;

@@ -13,6 +13,10 @@
 #include "format/fp16_inline.h"
 #include "format/unorm8_decode.h"
 
+#if defined(__x86_64__)
+#include <immintrin.h>  // the AVX2 kernels below (gnu::target), also in builds without AVX
+#endif
+
 namespace oitref::detail {
 namespace {
 
