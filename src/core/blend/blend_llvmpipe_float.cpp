@@ -557,17 +557,26 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
   gatherLanes<Channels>(cs, lanes.constant, lanes.constantAlpha);
   const int whole = n - n % P;
   const bool hardware = flushesInHardware(plan);
+  // A kernel compiled for its shape has one chunk function, built for the MXCSR's flushes: it
+  // runs in that mode, or for a plan that does not flush (then `hardware` changes nothing in
+  // Arith). The software rule (a CPU without the fused multiply-add in hardware, or not x86)
+  // takes the general chunk function: a second compiled copy of every shape doubled this file's
+  // build time.
+  if constexpr (ShapeOf::kKnown)
+    if (plan.flushDenormals && !hardware) return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, pixels, n, fp16);
   for (int chunk = 0; chunk < whole; chunk += kChunk) {
     const int end = chunk + kChunk < whole ? chunk + kChunk : whole;
     v8f loaded[2 * kChunk / P];  // each group's destination lanes and their alphas
     IntLanesOf<v8f> special{};
+    bool done = false;
 #if defined(__x86_64__)
     if (hardware) {
       const FlushInHardware mode(plan.callerMxcsr);
       blendChunk<Channels, ShapeOf, true>(plan, lanes, pixels, chunk, end, loaded, &special, fp16);
-    } else
+      done = true;
+    }
 #endif
-      blendChunk<Channels, ShapeOf, false>(plan, lanes, pixels, chunk, end, loaded, &special, fp16);
+    if (!done) blendChunk<Channels, ShapeOf, ShapeOf::kKnown>(plan, lanes, pixels, chunk, end, loaded, &special, fp16);
     if (Arith<v8f>::any(special)) {
       blendAgainWithRules(ShapeOf::of(plan), lanes.constant, lanes.constantAlpha, pixels.from(chunk), loaded,
                           end - chunk, fp16);
