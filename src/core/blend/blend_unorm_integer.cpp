@@ -299,10 +299,8 @@ UI_INLINE void compiledBatchBody(const UnormIntegerPlan& plan, const glm::vec4* 
 template <BlendState State>
 [[gnu::target("avx2")]] int compiledRunAvx2(const UnormIntegerPlan& plan, const glm::vec4* sources, uint8_t* texels, int n) {
   if (plan.lerp) return 0;
-  const v16s c{int16_t(plan.constant[0]), int16_t(plan.constant[1]), int16_t(plan.constant[2]), int16_t(plan.constant[3]),
-               int16_t(plan.constant[0]), int16_t(plan.constant[1]), int16_t(plan.constant[2]), int16_t(plan.constant[3]),
-               int16_t(plan.constant[0]), int16_t(plan.constant[1]), int16_t(plan.constant[2]), int16_t(plan.constant[3]),
-               int16_t(plan.constant[0]), int16_t(plan.constant[1]), int16_t(plan.constant[2]), int16_t(plan.constant[3])};
+  v16s c;
+  for (int l = 0; l < 16; ++l) c[l] = int16_t(plan.constant[l % 4]);  // each pixel's four channels
   int i = 0;
   for (; i + 4 <= n; i += 4) {
     __m128i codes[4];

@@ -316,11 +316,15 @@ uint64_t emptySources(const glm::vec4* sources, int n) {
   }
   return empty;
 }
-uint64_t emptySourcesOfCpu(const glm::vec4* sources, int n) {
-  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
-  return avx2 ? emptySourcesAvx2(sources, n) : emptySources(sources, n);
-}
 #endif
+// emptySources, two pixels at a time where the CPU can.
+uint64_t emptySourcesOfCpu(const glm::vec4* sources, int n) {
+#if defined(__x86_64__)
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi2");
+  if (avx2) return emptySourcesAvx2(sources, n);
+#endif
+  return emptySources(sources, n);
+}
 
 inline bool halfKept(const uint8_t* texel, int channels) {  // not NaN, not −0 (fp16 denormals are kept)
   bool kept = true;
@@ -364,11 +368,7 @@ inline bool floatKept4(const uint8_t* texel, bool flushes) {
 
 uint64_t TargetBlender::keptPixels(const glm::vec4* sources, const uint8_t* texels, int n) const {
   if (!skipsEmptyPixels_) return 0;
-#if defined(__x86_64__)
   const uint64_t empty = emptySourcesOfCpu(sources, n);
-#else
-  const uint64_t empty = emptySources(sources, n);
-#endif
   // The texels only of the empty sources: where transparent layers cover the screen, none is
   // read (they were read twice, here and by the blend).
   const int channels = format_.channels;
