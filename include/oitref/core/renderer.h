@@ -51,10 +51,15 @@ struct DrawStats {
   DrawStats& operator+=(const DrawStats& o);
 };
 
+// The pixels of a tile: the unit of parallel work, each tile's pixels drawn by one thread.
+struct TileShape {
+  int width = 128, height = 32;
+};
+
 struct RendererOptions {
   int threads = 0;      // 0: every hardware thread
-  // Pixels, a power of two from 8 to 256; 0 (the default): 64 as llvmpipe, or 32 on a viewport
-  // with fewer than eight tiles of 64 per thread (Renderer::tileSizeFor). Any size, the same bits.
+  // Square tiles of this many pixels, a power of two from 8 to 256; 0 (the default): wide tiles
+  // chosen for the viewport (Renderer::tileShapeFor). Any size or shape, the same bits.
   int tileSize = 0;
   // Hand fragments to the fragment operations one at a time instead of as row spans with batched
   // blending: the same bits, slower; the oracle of the span path's tests.
@@ -77,8 +82,8 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   int threads() const;
-  // The tile size a draw into a width × height viewport uses.
-  int tileSizeFor(int width, int height) const;
+  // The tiles a draw into a width × height viewport uses.
+  TileShape tileShapeFor(int width, int height) const;
   const RendererOptions& options() const { return options_; }
 
   DrawStats draw(Framebuffer& fb, const PipelineState& state, const Geometry& geometry, const FragmentProgram& program);

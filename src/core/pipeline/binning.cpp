@@ -10,20 +10,20 @@ struct TileRange {
 };
 
 TileRange tilesTouched(const PixelRect& r, const TileGrid& g) {
-  return {(r.x0 - g.x0) / g.tileSize, (r.y0 - g.y0) / g.tileSize, (r.x1 - 1 - g.x0) / g.tileSize + 1,
-          (r.y1 - 1 - g.y0) / g.tileSize + 1};
+  return {(r.x0 - g.x0) / g.tileWidth, (r.y0 - g.y0) / g.tileHeight, (r.x1 - 1 - g.x0) / g.tileWidth + 1,
+          (r.y1 - 1 - g.y0) / g.tileHeight + 1};
 }
 
 }  // namespace
 
-TileGrid::TileGrid(int tileSize_, int x0_, int y0_, int width_, int height_)
-    : tileSize(tileSize_), x0(x0_), y0(y0_), width(width_), height(height_),
-      tilesX((width_ + tileSize_ - 1) / tileSize_), tilesY((height_ + tileSize_ - 1) / tileSize_) {}
+TileGrid::TileGrid(int tileWidth_, int tileHeight_, int x0_, int y0_, int width_, int height_)
+    : tileWidth(tileWidth_), tileHeight(tileHeight_), x0(x0_), y0(y0_), width(width_), height(height_),
+      tilesX((width_ + tileWidth_ - 1) / tileWidth_), tilesY((height_ + tileHeight_ - 1) / tileHeight_) {}
 
 PixelRect TileGrid::tileRect(int tile) const {
   const int tx = tile % tilesX, ty = tile / tilesX;
-  const int x = x0 + tx * tileSize, y = y0 + ty * tileSize;
-  return {x, y, std::min(x + tileSize, x0 + width), std::min(y + tileSize, y0 + height)};
+  const int x = x0 + tx * tileWidth, y = y0 + ty * tileHeight;
+  return {x, y, std::min(x + tileWidth, x0 + width), std::min(y + tileHeight, y0 + height)};
 }
 
 void setupChunk(const Geometry& geometry, const SetupContext& context, const TileGrid& grid, size_t chunk,

@@ -1,6 +1,6 @@
 // Stage 3: binning — which triangles touch which tile, in submission order.
 //
-// The viewport is cut into square tiles. Setup runs over fixed-size chunks of input triangles in
+// The viewport is cut into tiles (Renderer::tileShapeFor). Setup runs over fixed-size chunks of input triangles in
 // parallel (the split never depends on the thread count); each chunk keeps its own set-up
 // triangles, named by (chunk << 16 | index in chunk). Binning is a counting sort: count per
 // chunk and tile, prefix sums in (tile, chunk) order, scatter — so each tile's list holds its
@@ -19,11 +19,11 @@ inline constexpr size_t kSetupChunk = 4096;
 inline constexpr size_t kMaxTriangles = size_t(1) << 28;  // 2^16 chunks
 
 struct TileGrid {
-  int tileSize = 64;
+  int tileWidth = 128, tileHeight = 32;
   int x0 = 0, y0 = 0, width = 0, height = 0;  // the viewport
   int tilesX = 0, tilesY = 0;
 
-  TileGrid(int tileSize, int x0, int y0, int width, int height);
+  TileGrid(int tileWidth, int tileHeight, int x0, int y0, int width, int height);
   int count() const { return tilesX * tilesY; }
   PixelRect tileRect(int tile) const;
 };

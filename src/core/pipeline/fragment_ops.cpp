@@ -119,19 +119,25 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
 
 // Lanes past n compute columns beyond the run; their results are neither checked nor read.
 bool FragmentStage::windowDepthsFromPlane(double yn, int start, int n) {
-  const WindowDepthPlane& p = depthPlane_;
-  const double rowPart = p.b * yn + p.c;
+  // The plane and the NDC scale as locals: read through `this`, every group loaded them again
+  // after its store into batchDepth_, which might have aliased them.
+  const WindowDepthPlane p = depthPlane_;
+  const double rowPart = p.b * yn + p.c, scale = ndcScaleX_, offset = ndcOffsetX_;
+  float* const out = batchDepth_;
   lanes::i4 differ = {0, 0, 0, 0};
+  // The columns as doubles, stepped by 4: integers, so each lane holds double(start + i) exactly,
+  // as converting each column would (one add instead of a conversion and four adds per group).
+  lanes::d4 column = lanes::d4{0.0, 1.0, 2.0, 3.0} + double(start);
   // Four pixels at a time; the lanes of the last four past the run compute pixels beyond it, never
   // read, and only they are masked out of the check (a mask in every step cost a fifth of the loop).
   const auto group = [&](int i) {
-    const double x = double(start + i);
-    const lanes::d4 xn = lanes::d4{x, x + 1.0, x + 2.0, x + 3.0} * ndcScaleX_ + ndcOffsetX_;
+    const lanes::d4 xn = column * scale + offset;
     const lanes::d4 z = 0.5 * (p.a * xn + rowPart) + 0.5;
     const lanes::f4 low = lanes::convert<lanes::f4>(z - p.error), high = lanes::convert<lanes::f4>(z + p.error);
     lanes::i4 lowBits, highBits;  // bit patterns: +0 and −0 are not the same depth here
     std::memcpy(&lowBits, &low, sizeof low), std::memcpy(&highBits, &high, sizeof high);
-    std::memcpy(batchDepth_ + i, &low, sizeof low);
+    std::memcpy(out + i, &low, sizeof low);
+    column += 4.0;
     return lanes::i4(lowBits != highBits);
   };
   int i = 0;
@@ -436,7 +442,7 @@ int FragmentStage::keepPassingDiscardTest(int y, int start, int n, const double*
 }
 
 // The depth row of a span two rows ahead, asked for now: a triangle's next spans in the tile
-// are there, and the rows of a 64-pixel tile are a page apart, too far for the hardware's
+// are there, and the rows of a tile are a page apart, too far for the hardware's
 // prefetcher to follow in time (the first load of a span's depths waited on memory). Prefetching
 // the colour rows as well measured slower (veils 1080p opaque pass 40 → 44 ms). Only when the
 // data arrives changes.

@@ -212,11 +212,11 @@ class FragmentStage {
   void prefetchDepthRow(int y, int x0, int x1) const;
 
   static constexpr int kBatch = FragmentBatch::kCapacity;
-  // The pixels span() asks depthRunRejects_ about at a time: a whole span in the default 64-pixel
-  // tiles. Shorter runs reject more of a span whose depth crosses the stored one, but a rejected
+  // The pixels span() asks depthRunRejects_ about at a time: a whole span in the default tiles,
+  // 128 pixels wide (Renderer::tileShapeFor). Shorter runs reject more of a span whose depth crosses the stored one, but a rejected
   // run splits the batch around it, and each batch has a cost of its own (dense's opaque frame:
   // 81–106 ms with runs of 16, 63–66 with one run per span).
-  static constexpr int kRejectRun = 64;
+  static constexpr int kRejectRun = kBatch;
   static_assert(kRejectRun == kBatch, "span() takes each run as one batch");
 
   Framebuffer& fb_;

@@ -113,9 +113,10 @@ void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accu
                              weights(in, colors, w);
                              for (int i = 0; i < in.count; ++i) {
                                const glm::vec4& c = colors[i];
-                               out.write(i, 0, premultiplied(c, w[i]));  // (c.rgb·α·w, α·w)
-                               out.write(i, 1, glm::vec4(c.a));
+                               out.writeColor(i, 0, premultiplied(c, w[i]));  // (c.rgb·α·w, α·w)
+                               out.writeColor(i, 1, glm::vec4(c.a));
                              }
+                             out.markWritten(in.count, 0b11u);
                            },
                            false, false, {}, true, readsViewDepth);
 }
