@@ -118,14 +118,15 @@ class Wboit final : public OpaqueFirstMethod {
     accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4* c, float* w) {
       const int count = in.count;
       // The inputs as local rows, so that the weight's loop runs in vector lanes.
-      float z[kShaderBatch], alpha[kShaderBatch], view[kShaderBatch], out[kShaderBatch];
+      float z[kShaderBatch], alpha[kShaderBatch], view[kShaderBatch];
       for (int i = 0; i < count; ++i) z[i] = in.depth[i], alpha[i] = c[i].a, view[i] = in.viewDepth[i];
       if (adaptive)
         for (int i = 0; i < count; ++i) z[i] = z[i] / float(depth.depth(in.x[i], in.y));  // z / z_s: the opaque depth behind it
+      // Straight into w (the caller's local array): through a local row and std::copy_n, each
+      // batch paid a call of memcpy.
       withWeight(kind, [&](auto weightOf) {
-        for (int i = 0; i < count; ++i) out[i] = weightOf(alpha[i], z[i], view[i]);
+        for (int i = 0; i < count; ++i) w[i] = weightOf(alpha[i], z[i], view[i]);
       });
-      std::copy_n(out, count, w);
     }, readsViewDepth(kind));
     // Steps 13–14: S_oit (eq. 2.7) blended into the background.
     compositeWeighted(run, t, accum, reveal, clamp_);
