@@ -4,6 +4,11 @@
 // views themselves, field by field.
 #include <catch2/catch.hpp>
 
+#include <cstring>
+#include <iterator>
+
+#include "oitref/core/format.h"
+#include "oitref/core/image.h"
 #include "oitref/core/shader.h"
 
 using namespace oitref;
@@ -84,4 +89,34 @@ TEST_CASE("shader: a FragmentBatchOutput holds what a FragmentOutput holds, per 
   }
   viewed.reset(N);
   for (int i = 0; i < N; ++i) CHECK((viewed.writtenMask(i) == 0 && !viewed.discarded(i) && !viewed.depthWritten(i)));
+}
+
+TEST_CASE("shader: texelsOf and redTexelsOf give fetchTexels's bits, in place or fetched") {
+  // Runs (in place for RGBA32F and R32F) and scattered columns (fetched), every format family,
+  // with fp32 payloads that a conversion would change: a signalling NaN, −0, a denormal.
+  const uint32_t specials[] = {0x7f800001u, 0x80000000u, 0x00000001u, 0x3f800000u, 0xc1234567u, 0x7f800000u};
+  for (const char* name : {"rgba32f", "r32f", "rg32f", "rgba16f", "r16f", "rgba8", "r8"}) {
+    const Format f = parseFormat(name);
+    Image image(f, 9, 2);
+    for (size_t i = 0; i < image.sizeBytes(); ++i)
+      image.texel(0, 0)[i] = uint8_t(specials[(i / 4) % std::size(specials)] >> (8 * (i % 4)));
+    int run[6] = {2, 3, 4, 5, 6, 7}, scattered[6] = {8, 0, 3, 3, 5, 1};
+    for (bool isRun : {true, false}) {
+      FragmentBatch in;
+      in.count = 6, in.y = 1, in.run = isRun, in.x = isRun ? run : scattered;
+      glm::vec4 want[FragmentBatch::kCapacity], scratch[FragmentBatch::kCapacity];
+      float redScratch[FragmentBatch::kCapacity];
+      fetchTexels(image, in, want);
+      const glm::vec4* got = texelsOf(image, in, scratch);
+      const float* reds = redTexelsOf(image, in, redScratch);
+      INFO(name << (isRun ? " run" : " scattered"));
+      // In place exactly for the runs of the fp32 layouts that hold what fetch gives.
+      CHECK((got != scratch) == (isRun && f == parseFormat("rgba32f")));
+      CHECK((reds != redScratch) == (isRun && f == parseFormat("r32f")));
+      for (int i = 0; i < in.count; ++i) {
+        CHECK(std::memcmp(&got[i], &want[i], sizeof want[i]) == 0);
+        CHECK(std::memcmp(&reds[i], &want[i].r, sizeof reds[i]) == 0);
+      }
+    }
+  }
 }

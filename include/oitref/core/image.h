@@ -59,6 +59,15 @@ class Image {
   // batches, and a span's where every fragment survived), without a column loaded and scaled per
   // texel; fp32's texels copied at once.
   void fetchRun(int y, int x0, int n, glm::vec4* out) const { fetchColumns(texel(x0, y), nullptr, n, out); }
+  // The texels x0, x0 + 1, … of row y where the image holds them as fetchRun gives them, read in
+  // place: an RGBA32F image's row as vec4s, an R32F image's as the floats fetch(x, y).r gives.
+  // Null for every other layout. Valid until the image is written or freed.
+  const glm::vec4* float4Run(int y, int x0) const {
+    return inlineLayout_ == InlineLayout::Float32x4 ? reinterpret_cast<const glm::vec4*>(texel(x0, y)) : nullptr;
+  }
+  const float* float1Run(int y, int x0) const {
+    return inlineLayout_ == InlineLayout::Float32x1 ? reinterpret_cast<const float*>(texel(x0, y)) : nullptr;
+  }
   // Stores value converted by the format's rule under the profile (no blending, all channels).
   // fp32 layouts store the bits as they are (encodeTexel's rule), inline: the per-fragment
   // read-modify-write methods (MLAB, k-buffer, hybrid) store a depth or colour per fragment.

@@ -254,22 +254,23 @@ class Mboit final : public OpaqueFirstMethod {
       // without a branch per fragment.
       accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4*, float* w) {
         const int count = in.count;
-        glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch];
-        fetchTexels(b0Image, in, b0Texels);
-        fetchTexels(*momentImages[0], in, lo);
+        glm::vec4 loScratch[kShaderBatch];
+        float b0Scratch[kShaderBatch];
+        const float* b0Texels = redTexelsOf(b0Image, in, b0Scratch);
+        const glm::vec4* lo = texelsOf(*momentImages[0], in, loScratch);
         int used[kShaderBatch], n = 0;
         float moments[kShaderBatch * 4], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
         bool fellBack[kShaderBatch];
         // Usually every fragment reconstructs (a layer's own absorbance puts its pixel's b0 above
         // kClearB0): then the batch's columns are taken as they are, in lanes.
         bool anyClear = false;
-        for (int i = 0; i < count; ++i) b0s[i] = b0Texels[i].r, anyClear |= b0s[i] < kClearB0;
+        for (int i = 0; i < count; ++i) b0s[i] = b0Texels[i], anyClear |= b0s[i] < kClearB0;
         if (!anyClear) {
           for (int i = 0; i < count; ++i) depths[i] = linearWarp(in, i), used[i] = i;
           n = count;
         } else {
           for (int i = 0; i < count; ++i) {
-            const float b0 = b0Texels[i].r;
+            const float b0 = b0Texels[i];
             depths[n] = linearWarp(in, i);
             b0s[n] = b0;
             used[n] = i;
@@ -289,12 +290,13 @@ class Mboit final : public OpaqueFirstMethod {
         float moments[kShaderBatch * 8], depths[kShaderBatch], absorbance[kShaderBatch], b0s[kShaderBatch];
         bool fellBack[kShaderBatch];
         // The batch's texels a row at a time (fetchTexels: the layout decided once).
-        glm::vec4 b0Texels[kShaderBatch], lo[kShaderBatch], hi[kShaderBatch];
-        fetchTexels(b0Image, in, b0Texels);
-        fetchTexels(*momentImages[0], in, lo);
-        if (momentImages[1]) fetchTexels(*momentImages[1], in, hi);
+        glm::vec4 loScratch[kShaderBatch], hiScratch[kShaderBatch];
+        float b0Scratch[kShaderBatch];
+        const float* b0Texels = redTexelsOf(b0Image, in, b0Scratch);
+        const glm::vec4* lo = texelsOf(*momentImages[0], in, loScratch);
+        const glm::vec4* hi = momentImages[1] ? texelsOf(*momentImages[1], in, hiScratch) : hiScratch;
         for (int i = 0; i < count; ++i) {
-          const float b0 = b0Texels[i].r;
+          const float b0 = b0Texels[i];
           if (b0 < kClearB0) continue;
           float* b = moments + size_t(n) * size_t(reals);
           if (quantised) {

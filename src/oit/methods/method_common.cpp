@@ -19,12 +19,9 @@ PipelineState weightedAccumulationState(const Profile& profile) {
 void compositeWeighted(PassRunner& run, FrameTargets& targets, const Image& accum, const Image& reveal,
                        ResolveClamp clamp) {
   run.blendOverBackgroundBatch(targets, [&](const FragmentBatch& in, glm::vec4* s) {
-    glm::vec4 a[kShaderBatch];
-    float t[kShaderBatch];
-    fetchTexels(accum, in, a);
-    fetchTexels(reveal, in, s);  // s as scratch: the revealage's texels
-    for (int i = 0; i < in.count; ++i) t[i] = s[i].r;
-    weightedResolveRow(a, t, in.count, s, clamp);
+    glm::vec4 accumScratch[kShaderBatch];
+    float revealScratch[kShaderBatch];
+    weightedResolveRow(texelsOf(accum, in, accumScratch), redTexelsOf(reveal, in, revealScratch), in.count, s, clamp);
   });
 }
 

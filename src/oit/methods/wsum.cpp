@@ -40,10 +40,11 @@ class Wsum final : public Method {
     PipelineState plain;
     plain.profile = context.profile;
     run.fullscreenProgram("composite", out, plain, programOfBatch([&](const FragmentBatch& in, FragmentBatchOutput& o) {
-      glm::vec4 sum[kShaderBatch], c1[kShaderBatch], c0[kShaderBatch];
-      fetchTexels(accum, in, sum);
+      glm::vec4 sumScratch[kShaderBatch], c1[kShaderBatch], c0Scratch[kShaderBatch];
+      const glm::vec4* sum = texelsOf(accum, in, sumScratch);
       fetchTexels(opaque, in, c1);
-      fetchTexels(analysis, in, c0);
+      // The analysis copy is also this pass's target: read in place, before blending writes it.
+      const glm::vec4* c0 = texelsOf(analysis, in, c0Scratch);
       for (int i = 0; i < in.count; ++i) {
         const float background = 1.0f - sum[i].a;
         o.write(i, 0, plusScaledOpaque(sum[i], c1[i], background));  // (C2.rgb + C1.rgb·(1 − C2.a), 1)
