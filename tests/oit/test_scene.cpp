@@ -258,3 +258,27 @@ TEST_CASE("scene: shading — overrides, vertex colours and the particle falloff
   s.objects[0].colorOverride = glm::vec4(0.2f, 0.3f, 0.4f, 1.0f);
   CHECK(buildSceneGeometry(s).parts[0].attributes[2 * kSceneAttributeCount + 3] == 1.0f);
 }
+
+TEST_CASE("scene: shadeSurfaceBatch gives shadeSurface's bits for every fragment of a batch", "[scene]") {
+  // Rows of 21 fragments (two groups of eight and a rest): meshes and particles, their colours
+  // varying or one value in every fragment (the `uniform` bits, which only let it read them once).
+  constexpr int N = 21, S = 32;  // fragments, row stride
+  for (ObjectType type : {ObjectType::Mesh, ObjectType::Particles})
+    for (bool uniformColour : {false, true}) {
+      SceneObject object;
+      object.type = type;
+      float rows[kSceneAttributeCount * S] = {};
+      for (int i = 0; i < N; ++i) {
+        for (int k = 0; k < 4; ++k) rows[k * S + i] = uniformColour ? 0.3f + 0.1f * float(k) : float(i * 7 + k) / 97.0f;
+        rows[4 * S + i] = float(i) / float(N - 1);       // u across the quad
+        rows[5 * S + i] = float((i * 5) % N) / float(N);  // v
+      }
+      glm::vec4 got[N];
+      shadeSurfaceBatch(object, rows, S, nullptr, 1, TextureFiltering::Exact, N, got, uniformColour ? 0xFu : 0u);
+      for (int i = 0; i < N; ++i) {
+        const glm::vec4 want = shadeSurface(object, rows + i, S);
+        INFO((type == ObjectType::Particles ? "particles" : "mesh") << (uniformColour ? ", one colour" : "") << ", fragment " << i);
+        CHECK(std::memcmp(&got[i], &want, sizeof want) == 0);
+      }
+    }
+}

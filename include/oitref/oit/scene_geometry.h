@@ -111,6 +111,13 @@ inline void shadeSurfaceBatch(const SceneObject& object, const float* a, int str
       return r;
     };
     int i = 0;
+    if ((uniform & 0xF) == 0xF) {  // one colour for the particle: read once, only the alphas vary
+      const glm::vec4 colour = vertexColour(a, stride);
+      for (; i + 8 <= count; i += 8) {
+        const v8f alpha = particleAlpha(row(3, i), row(4, i), row(5, i));
+        for (int l = 0; l < 8; ++l) out[i + l] = glm::vec4(colour.r, colour.g, colour.b, alpha[l]);
+      }
+    }
     for (; i + 8 <= count; i += 8) {
       const v8f alpha = particleAlpha(row(3, i), row(4, i), row(5, i));
       for (int l = 0; l < 8; ++l) {
