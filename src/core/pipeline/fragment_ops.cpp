@@ -103,8 +103,11 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
   for (int k = 0; k < std::min(n, 64); ++k)
     flatAttributes_ |= uint64_t(flatAttributeValue(va[k], va[n + k], va[2 * n + k])) << k;
   flatRowsWritten_ = false;
-  flatProven_ = false;
-  if (n > 0 && n <= 64 && flatAttributes_ == (n == 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1)) {
+  flatProven_ = planeDepth_ = false;
+  // The bound is proven for a triangle with any flat attribute: where only some are (a particle's
+  // colour, not its uv), interpolateAttributesBatch then skips its check per batch.
+  const bool allFlat = n > 0 && n <= 64 && flatAttributes_ == (n == 64 ? ~uint64_t(0) : (uint64_t(1) << n) - 1);
+  if (n > 0 && flatAttributes_ != 0) {
     // The triangle's pixels in this stage's tile (rasterizeTile's rectangle), or all of them.
     PixelRect r = t.bounds;
     if (tile_.x1 > tile_.x0)
@@ -112,9 +115,9 @@ void FragmentStage::beginTriangle(const SetupTriangle& t) {
     const double ndc[4] = {ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_};
     RectangleBound bound;
     flatProven_ = !interpolation_->degenerate && barycentricsBoundedOn(*interpolation_, ndc, r, &bound);
-    planeDepth_ = planeDepthEligible_ && flatProven_ && windowDepthPlane(*interpolation_, bound, depthPlane_);
+    planeDepth_ = allFlat && planeDepthEligible_ && flatProven_ && windowDepthPlane(*interpolation_, bound, depthPlane_);
   }
-  flatTriangle_ = (flatEligible_ || planeDepth_) && flatProven_;
+  flatTriangle_ = allFlat && (flatEligible_ || planeDepth_) && flatProven_;
 }
 
 // Lanes past n compute columns beyond the run; their results are neither checked nor read.

@@ -252,13 +252,13 @@ class FragmentStage {
   // the vertices' values, written once per triangle (flatRowsWritten_; where spanBatch takes one
   // of its runs, it writes the same values, by the proof).
   bool flatEligible_ = false, flatTriangle_ = false, flatRowsWritten_ = false;
-  // The current triangle's attributes are all flat and its B bounded over its pixels in the tile,
-  // whatever the program (flatTriangle_ needs an eligible program as well): interpolation writes
-  // them without checking each batch's lanes.
+  // The current triangle has flat attributes (all, or some) and its B is bounded over its pixels
+  // in the tile, whatever the program (flatTriangle_ needs all flat and an eligible program as
+  // well): interpolation writes the flat ones without checking each batch's lanes.
   bool flatProven_ = false;
   // A draw whose program reads the window depth but not the view depth (FragmentProgram::
-  // readsViewDepth), with flatEligible_'s other conditions; per triangle, one of them that is
-  // flatProven_ with a usable depth plane (depthPlane_): positionSpan() gives its runs that
+  // readsViewDepth), with flatEligible_'s other conditions; per triangle, one of them with all
+  // attributes flat, flatProven_, with a usable depth plane (depthPlane_): positionSpan() gives its runs that
   // surely pass the depth test fp32 window depths from the plane, proven to be interpolate()'s
   // rounded (windowDepthsFromPlane), and NaN view depths.
   bool planeDepthEligible_ = false, planeDepth_ = false;
