@@ -1,9 +1,9 @@
 // Stage 3: binning — which triangles touch which tile, in submission order.
 //
-// The viewport is cut into tiles (Renderer::tileShapeFor). Setup runs over fixed-size chunks of input triangles in
-// parallel (the split never depends on the thread count); each chunk keeps its own set-up
-// triangles, named by (chunk << 16 | index in chunk). Binning is a counting sort: count per
-// chunk and tile, prefix sums in (tile, chunk) order, scatter — so each tile's list holds its
+// The viewport is cut into tiles (Renderer::tileShapeFor). Setup runs over fixed-size chunks of
+// input triangles in parallel (the split never depends on the thread count); each chunk keeps its
+// own set-up triangles, named by (chunk << 16 | index in chunk). Binning is a counting sort: count
+// per chunk and tile, prefix sums in (tile, chunk) order, scatter — so each tile's list holds its
 // triangles in exactly the order they were submitted, whatever the number of threads.
 #pragma once
 

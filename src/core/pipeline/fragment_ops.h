@@ -213,9 +213,9 @@ class FragmentStage {
 
   static constexpr int kBatch = FragmentBatch::kCapacity;
   // The pixels span() asks depthRunRejects_ about at a time: a whole span in the default tiles,
-  // 128 pixels wide (Renderer::tileShapeFor). Shorter runs reject more of a span whose depth crosses the stored one, but a rejected
-  // run splits the batch around it, and each batch has a cost of its own (dense's opaque frame:
-  // 81–106 ms with runs of 16, 63–66 with one run per span).
+  // 128 pixels wide (Renderer::tileShapeFor). Shorter runs reject more of a span whose depth
+  // crosses the stored one, but a rejected run splits the batch around it, and each batch has a
+  // cost of its own (dense's opaque frame: 81–106 ms with runs of 16, 63–66 with one run per span).
   static constexpr int kRejectRun = kBatch;
   static_assert(kRejectRun == kBatch, "span() takes each run as one batch");
 
@@ -258,9 +258,9 @@ class FragmentStage {
   bool flatProven_ = false;
   // A draw whose program reads the window depth but not the view depth (FragmentProgram::
   // readsViewDepth), with flatEligible_'s other conditions; per triangle, one of them with all
-  // attributes flat, flatProven_, with a usable depth plane (depthPlane_): positionSpan() gives its runs that
-  // surely pass the depth test fp32 window depths from the plane, proven to be interpolate()'s
-  // rounded (windowDepthsFromPlane), and NaN view depths.
+  // attributes flat, flatProven_, with a usable depth plane (depthPlane_): positionSpan() gives
+  // its runs that surely pass the depth test fp32 window depths from the plane, proven to be
+  // interpolate()'s rounded (windowDepthsFromPlane), and NaN view depths.
   bool planeDepthEligible_ = false, planeDepth_ = false;
   WindowDepthPlane depthPlane_;  // of the current triangle, where planeDepth_
   bool windowDepthsFromPlane(double yn, int start, int n);
