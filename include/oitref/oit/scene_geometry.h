@@ -110,18 +110,14 @@ inline void shadeSurfaceBatch(const SceneObject& object, const float* a, int str
       std::memcpy(&r, a + size_t(k) * size_t(stride) + size_t(i), sizeof r);
       return r;
     };
+    // One colour for the whole batch (its colour attributes uniform): read once, only the alphas vary.
+    const bool oneColour = (uniform & 0xF) == 0xF;
+    const glm::vec4 colour = vertexColour(a, stride);
     int i = 0;
-    if ((uniform & 0xF) == 0xF) {  // one colour for the particle: read once, only the alphas vary
-      const glm::vec4 colour = vertexColour(a, stride);
-      for (; i + 8 <= count; i += 8) {
-        const v8f alpha = particleAlpha(row(3, i), row(4, i), row(5, i));
-        for (int l = 0; l < 8; ++l) out[i + l] = glm::vec4(colour.r, colour.g, colour.b, alpha[l]);
-      }
-    }
     for (; i + 8 <= count; i += 8) {
       const v8f alpha = particleAlpha(row(3, i), row(4, i), row(5, i));
       for (int l = 0; l < 8; ++l) {
-        out[i + l] = vertexColour(a + i + l, stride);
+        out[i + l] = oneColour ? colour : vertexColour(a + i + l, stride);
         out[i + l].a = alpha[l];
       }
     }

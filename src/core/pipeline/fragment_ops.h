@@ -216,8 +216,7 @@ class FragmentStage {
   // 128 pixels wide (Renderer::tileShapeFor). Shorter runs reject more of a span whose depth
   // crosses the stored one, but a rejected run splits the batch around it, and each batch has a
   // cost of its own (dense's opaque frame: 81–106 ms with runs of 16, 63–66 with one run per span).
-  static constexpr int kRejectRun = kBatch;
-  static_assert(kRejectRun == kBatch, "span() takes each run as one batch");
+  static constexpr int kRejectRun = kBatch;  // span() takes each run as one batch
 
   Framebuffer& fb_;
   const PipelineState& state_;
