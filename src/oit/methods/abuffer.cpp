@@ -7,10 +7,14 @@
 // Storage is built as a GPU A-buffer with a prefix sum would: a counting pass, a check against
 // the `max_fragments` budget (an error naming the deepest pixel, never an out-of-memory kill),
 // then a storing pass. Each tile's pixels belong to one worker, so the per-pixel writes of the
-// fragment shader are race-free and in submission order.
+// fragment shader are race-free and in submission order; the same worker resolves the tile's
+// lists as soon as it has drawn the tile (TileResolve, a tile shader), and a full-screen pass
+// writes the resolved colours.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstring>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
@@ -98,6 +102,86 @@ void compositePairBackToFront(const StoredFragment* listA, const uint32_t* order
   b.finish(resultB);
 }
 
+using ResolvedColors = std::array<glm::vec3, 2>;  // OVER onto the two backgrounds
+
+// The A-buffer's resolve of one tile (Renderer's TileShader), run by the worker that stored the
+// tile's fragments as soon as it has: each pixel's list sorted and composited onto both
+// backgrounds while the tile's lists, just written, are still partly in cache — instead of a
+// full-screen pass that reads every list back from memory after the whole frame.
+class TileResolve {
+ public:
+  TileResolve(const std::vector<StoredFragment>& fragments, const std::vector<uint64_t>& start, const Image& opaque,
+              const Image& analysis, int width, bool useDouble, ResolvedColors* resolved)
+      : fragments_(fragments), start_(start), opaque_(opaque), analysis_(analysis), width_(width),
+        useDouble_(useDouble), resolved_(resolved) {}
+
+  void operator()(const TileRect& r) const {
+    for (int y = r.y0; y < r.y1; ++y) resolveRow(y, r.x0, r.x1);
+  }
+
+ private:
+  // Pixels [x0, x1) of row y. The stored lists stay in submission order for the result; the
+  // resolve sorts positions. Two pixels at a time, side by side (DepthOrder::sortPair,
+  // compositePairBackToFront): each insertion and each layer waits for the one before, and the
+  // other pixel's work fills that wait.
+  void resolveRow(int y, int x0, int x1) const {
+    const size_t row = size_t(y) * size_t(width_) + size_t(x0);
+    const int n = x1 - x0;
+    if (start_[row + size_t(n)] == start_[row]) return;  // no fragments in this row of the tile
+    thread_local std::vector<glm::vec4> texels[2];
+    for (int t = 0; t < 2; ++t) {
+      texels[t].resize(size_t(n));
+      (t == 0 ? opaque_ : analysis_).fetchRun(y, x0, n, texels[t].data());
+    }
+    thread_local DepthOrder depthOrder;
+    thread_local std::vector<uint32_t> orders[2];
+    auto list = [&](int i) { return fragments_.data() + start_[row + size_t(i)]; };
+    auto length = [&](int i) { return uint32_t(start_[row + size_t(i) + 1] - start_[row + size_t(i)]); };
+    auto backgrounds = [&](int i, glm::vec3 out[2]) {
+      out[0] = glm::vec3(texels[0][size_t(i)]), out[1] = glm::vec3(texels[1][size_t(i)]);
+    };
+    auto store = [&](int i, const glm::vec3 out[2]) { resolved_[row + size_t(i)] = {out[0], out[1]}; };
+    const auto composite = useDouble_ ? compositeBackToFront<double> : compositeBackToFront<float>;
+    int waiting = -1;  // a pixel whose list waits for a second one
+    for (int i = 0; i < n; ++i) {
+      if (length(i) == 0) continue;
+      if (waiting < 0) {
+        waiting = i;
+        continue;
+      }
+      const int first = std::exchange(waiting, -1);
+      orders[0].resize(length(first)), orders[1].resize(length(i));
+      depthOrder.sortPair(list(first), length(first), orders[0].data(), list(i), length(i), orders[1].data());
+      glm::vec3 under[2][2], out[2][2];
+      backgrounds(first, under[0]), backgrounds(i, under[1]);
+      if (useDouble_) {
+        composite(list(first), orders[0].data(), length(first), under[0], out[0]);
+        composite(list(i), orders[1].data(), length(i), under[1], out[1]);
+      } else {
+        compositePairBackToFront(list(first), orders[0].data(), length(first), under[0], out[0], list(i), orders[1].data(),
+                                 length(i), under[1], out[1]);
+      }
+      store(first, out[0]), store(i, out[1]);
+    }
+    if (waiting >= 0) {
+      orders[0].resize(length(waiting));
+      depthOrder.sort(list(waiting), length(waiting), orders[0].data());
+      glm::vec3 under[2], out[2];
+      backgrounds(waiting, under);
+      composite(list(waiting), orders[0].data(), length(waiting), under, out);
+      store(waiting, out);
+    }
+  }
+
+  const std::vector<StoredFragment>& fragments_;
+  const std::vector<uint64_t>& start_;
+  const Image& opaque_;
+  const Image& analysis_;
+  int width_;
+  bool useDouble_;
+  ResolvedColors* resolved_;
+};
+
 class Abuffer final : public Method {
  public:
   explicit Abuffer(const MethodOptions& o)
@@ -140,15 +224,18 @@ class Abuffer final : public Method {
     for (const MemoryItem& i : frameBuffers(w, h, context.geometry)) known += i.bytes;
     const uint64_t spare = context.memoryLimit > known ? context.memoryLimit - known : 0;
     const uint64_t fitting = std::min(maxFragments_, spare / sizeof(StoredFragment));
-    std::vector<uint32_t> count(pixels, 0);
+    // The lists' heads: the counting pass counts pixel p's fragments in start[p + 1], and a prefix
+    // sum turns the counts into where each list starts. Kept between frames with the fragments.
+    std::vector<uint64_t> start = context.pool ? context.pool->takeListStarts(pixels + 1) : std::vector<uint64_t>(pixels + 1);
+    std::fill(start.begin(), start.end(), 0);
     std::atomic<uint64_t> counted{0};
     const uint64_t frameId = nextFrameId();
     bool stopped = false;
     try {
       run.transparentPositionPass("count", depthOnly, st, [&](const FragmentBatch& in, FragmentBatchOutput&) {
-        uint32_t* row = count.data() + size_t(in.y) * w;
+        uint64_t* row = start.data() + 1 + size_t(in.y) * w;
         if (in.x[in.count - 1] - in.x[0] == in.count - 1) {  // a run of pixels (x ascending): in lanes
-          uint32_t* run = row + in.x[0];
+          uint64_t* run = row + in.x[0];
           for (int i = 0; i < in.count; ++i) ++run[i];
         } else {
           for (int i = 0; i < in.count; ++i) ++row[in.x[i]];
@@ -172,10 +259,13 @@ class Abuffer final : public Method {
                                formatBytes(known) + " under the memory limit of " + formatBytes(context.memoryLimit) +
                                " (the count stopped there). Render smaller or raise --memory-limit.");
     }
-    const uint64_t total = std::accumulate(count.begin(), count.end(), uint64_t(0));
-    const size_t deepest = size_t(std::max_element(count.begin(), count.end()) - count.begin());
+    const uint64_t total = std::accumulate(start.begin(), start.end(), uint64_t(0));
+    const size_t deepest = size_t(std::max_element(start.begin() + 1, start.end()) - (start.begin() + 1));
+    const uint64_t deepestCount = start[deepest + 1];
+    uint64_t covered = 0;
+    for (size_t p = 0; p < pixels; ++p) covered += start[p + 1] > 0;
     const std::string deepestText = "; the deepest pixel (" + std::to_string(deepest % w) + "," + std::to_string(deepest / w) +
-                                    ") has " + std::to_string(count[deepest]) + " layers.";
+                                    ") has " + std::to_string(deepestCount) + " layers.";
     const uint64_t fragmentBytes = total * sizeof(StoredFragment);
     if (known + fragmentBytes > context.memoryLimit)
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments need " + formatBytes(fragmentBytes) +
@@ -185,8 +275,7 @@ class Abuffer final : public Method {
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments exceed max_fragments=" +
                                std::to_string(maxFragments_) + " (" + std::to_string(total * sizeof(StoredFragment) >> 20) +
                                " MiB)" + deepestText + " Raise it with --set max_fragments=N or render smaller.");
-    std::vector<uint64_t> start(pixels + 1, 0);
-    for (size_t p = 0; p < pixels; ++p) start[p + 1] = start[p] + count[p];
+    for (size_t p = 0; p < pixels; ++p) start[p + 1] += start[p];
     std::vector<StoredFragment> fragments;
     if (context.pool) {
       fragments = context.pool->takeFragments(total);
@@ -194,8 +283,15 @@ class Abuffer final : public Method {
       util::reserveOnHugePages(fragments, total);
       fragments.resize(total);
     }
-    std::vector<uint32_t> filled(pixels, 0);
-    run.transparentBatchPass("store", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
+    // How many of each pixel's fragments the storing pass has stored, and each pixel's OVER onto
+    // both backgrounds from the tile's resolve (written and read only where there are fragments):
+    // kept between frames, as the lists are.
+    filled_.assign(pixels, 0);
+    if (resolved_.size() < pixels) resolved_.resize(pixels);
+    uint32_t* const filled = filled_.data();
+    const ResolvedColors* const resolvedColors = resolved_.data();
+    const TileResolve resolveTile{fragments, start, t.opaque(), t.analysis(), w, useDouble_, resolved_.data()};
+    run.transparentBatchPass("store+resolve", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
       const size_t row = size_t(in.y) * w;
       for (int i = 0; i < in.count; ++i) {
         const size_t p = row + in.x[i];
@@ -205,59 +301,20 @@ class Abuffer final : public Method {
         // fragment comes with a later primitive, and its write would otherwise wait on memory.
         if (slot + 2 < total) __builtin_prefetch(&fragments[slot + 2], 1);
       }
-    });
+    }, false, false, {}, true, true, [&resolveTile](const TileRect& r) { resolveTile(r); });
 
-    const bool useDouble = useDouble_;
-    const auto composite = useDouble ? compositeBackToFront<double> : compositeBackToFront<float>;
-    run.compositeOntoBackgroundsBatch(t, "sort+composite", [&](const FragmentBatch& in, const glm::vec3* const background[2],
-                                                               glm::vec3* const result[2], bool* resolved) {
-      // The stored lists stay in submission order for the result; the resolve sorts positions.
-      // Two pixels at a time, side by side (DepthOrder::sortPair, compositePairBackToFront): each
-      // insertion and each layer waits for the one before, and the other pixel's work fills that
-      // wait.
-      thread_local DepthOrder depthOrder;
-      thread_local std::vector<uint32_t> orders[2];
+    run.compositeOntoBackgroundsBatch(t, "composite", [&](const FragmentBatch& in, const glm::vec3* const[2],
+                                                          glm::vec3* const result[2], bool* resolved) {
       const size_t row = size_t(in.y) * w;
-      auto list = [&](int i) { return fragments.data() + start[row + size_t(in.x[i])]; };
-      auto length = [&](int i) { return count[row + size_t(in.x[i])]; };
-      auto backgrounds = [&](int i, glm::vec3 out[2]) { out[0] = background[0][i], out[1] = background[1][i]; };
-      auto store = [&](int i, const glm::vec3 out[2]) { result[0][i] = out[0], result[1][i] = out[1]; };
-      int waiting = -1;  // a pixel whose list waits for a second one
       for (int i = 0; i < in.count; ++i) {
-        resolved[i] = length(i) > 0;
-        if (!resolved[i]) continue;
-        if (waiting < 0) {
-          waiting = i;
-          continue;
-        }
-        const int first = std::exchange(waiting, -1);
-        orders[0].resize(length(first)), orders[1].resize(length(i));
-        depthOrder.sortPair(list(first), length(first), orders[0].data(), list(i), length(i), orders[1].data());
-        glm::vec3 under[2][2], out[2][2];
-        backgrounds(first, under[0]), backgrounds(i, under[1]);
-        if (useDouble) {
-          composite(list(first), orders[0].data(), length(first), under[0], out[0]);
-          composite(list(i), orders[1].data(), length(i), under[1], out[1]);
-        } else {
-          compositePairBackToFront(list(first), orders[0].data(), length(first), under[0], out[0], list(i), orders[1].data(),
-                                   length(i), under[1], out[1]);
-        }
-        store(first, out[0]), store(i, out[1]);
-      }
-      if (waiting >= 0) {
-        orders[0].resize(length(waiting));
-        depthOrder.sort(list(waiting), length(waiting), orders[0].data());
-        glm::vec3 under[2], out[2];
-        backgrounds(waiting, under);
-        composite(list(waiting), orders[0].data(), length(waiting), under, out);
-        store(waiting, out);
+        const size_t p = row + size_t(in.x[i]);
+        resolved[i] = start[p + 1] > start[p];
+        if (resolved[i]) result[0][i] = resolvedColors[p][0], result[1][i] = resolvedColors[p][1];
       }
     });
 
-    uint64_t covered = 0;
-    for (uint32_t c : count) covered += c > 0;
     result.stats.fragments = total;
-    result.stats.depthComplexityMax = count[deepest];
+    result.stats.depthComplexityMax = deepestCount;
     result.stats.depthComplexityMean = double(total) / double(pixels);
     result.stats.pixelsWithTransparency = covered;
     result.stats.fragmentStorageBytes = total * sizeof(StoredFragment) + (pixels + 1) * sizeof(uint64_t);
@@ -270,11 +327,14 @@ class Abuffer final : public Method {
   // The attachments and copies of every method, and the lists' heads.
   std::vector<MemoryItem> frameBuffers(int width, int height, const SceneGeometry& geometry) const {
     std::vector<MemoryItem> items = Method::memoryNeed(width, height, geometry);
-    items.push_back({"fragment counts, offsets and fill levels (16 B/pixel)", uint64_t(width) * uint64_t(height) * 16});
+    items.push_back({"list heads, fill levels and resolved colours (36 B/pixel)",
+                     uint64_t(width) * uint64_t(height) * (sizeof(uint64_t) + sizeof(uint32_t) + sizeof(ResolvedColors))});
     return items;
   }
   bool useDouble_;
   uint64_t maxFragments_;
+  std::vector<uint32_t> filled_;
+  std::vector<ResolvedColors> resolved_;
 };
 
 }  // namespace
