@@ -8,10 +8,8 @@
 // the `max_fragments` budget (an error naming the deepest pixel, never an out-of-memory kill),
 // then a storing pass. Each tile's pixels belong to one worker, so the per-pixel writes of the
 // fragment shader are race-free and in submission order; the same worker resolves the tile's
-// lists as soon as it has drawn the tile (TileResolve, a tile shader), and a full-screen pass
-// writes the resolved colours.
+// lists as soon as it has drawn the tile (TileResolve, a tile shader).
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cstring>
 #include <memory>
@@ -102,18 +100,19 @@ void compositePairBackToFront(const StoredFragment* listA, const uint32_t* order
   b.finish(resultB);
 }
 
-using ResolvedColors = std::array<glm::vec3, 2>;  // OVER onto the two backgrounds
-
 // The A-buffer's resolve of one tile (Renderer's TileShader), run by the worker that stored the
 // tile's fragments as soon as it has: each pixel's list sorted and composited onto both
-// backgrounds while the tile's lists, just written, are still partly in cache — instead of a
-// full-screen pass that reads every list back from memory after the whole frame.
+// backgrounds, the presented images (the opaque image and its RGBA32F analysis copy), while the
+// tile's lists, just written, are still partly in cache — instead of a full-screen pass that reads
+// every list back from memory after the whole frame. The store pass binds neither image, so the
+// tile's pixels are its worker's alone; each result is stored by the image's format rule under
+// the profile (Image::storeRow), as a full-screen pass without blending would store it.
 class TileResolve {
  public:
-  TileResolve(const std::vector<StoredFragment>& fragments, const std::vector<uint64_t>& start, const Image& opaque,
-              const Image& analysis, int width, bool useDouble, ResolvedColors* resolved)
-      : fragments_(fragments), start_(start), opaque_(opaque), analysis_(analysis), width_(width),
-        useDouble_(useDouble), resolved_(resolved) {}
+  TileResolve(const std::vector<StoredFragment>& fragments, const std::vector<uint64_t>& start, Image& opaque,
+              Image& analysis, const Profile& profile, bool useDouble)
+      : fragments_(fragments), start_(start), images_{&opaque, &analysis}, profile_(profile), width_(opaque.width()),
+        useDouble_(useDouble) {}
 
   void operator()(const TileRect& r) const {
     for (int y = r.y0; y < r.y1; ++y) resolveRow(y, r.x0, r.x1);
@@ -128,10 +127,12 @@ class TileResolve {
     const size_t row = size_t(y) * size_t(width_) + size_t(x0);
     const int n = x1 - x0;
     if (start_[row + size_t(n)] == start_[row]) return;  // no fragments in this row of the tile
-    thread_local std::vector<glm::vec4> texels[2];
+    thread_local std::vector<glm::vec4> texels[2], results[2];
+    thread_local std::vector<int> columns;
+    columns.clear();
     for (int t = 0; t < 2; ++t) {
-      texels[t].resize(size_t(n));
-      (t == 0 ? opaque_ : analysis_).fetchRun(y, x0, n, texels[t].data());
+      texels[t].resize(size_t(n)), results[t].resize(size_t(n));
+      images_[t]->fetchRun(y, x0, n, texels[t].data());
     }
     thread_local DepthOrder depthOrder;
     thread_local std::vector<uint32_t> orders[2];
@@ -140,7 +141,10 @@ class TileResolve {
     auto backgrounds = [&](int i, glm::vec3 out[2]) {
       out[0] = glm::vec3(texels[0][size_t(i)]), out[1] = glm::vec3(texels[1][size_t(i)]);
     };
-    auto store = [&](int i, const glm::vec3 out[2]) { resolved_[row + size_t(i)] = {out[0], out[1]}; };
+    auto store = [&](int i, const glm::vec3 out[2]) {
+      for (int t = 0; t < 2; ++t) results[t][columns.size()] = glm::vec4(out[t], 1.0f);
+      columns.push_back(x0 + i);
+    };
     const auto composite = useDouble_ ? compositeBackToFront<double> : compositeBackToFront<float>;
     int waiting = -1;  // a pixel whose list waits for a second one
     for (int i = 0; i < n; ++i) {
@@ -171,15 +175,15 @@ class TileResolve {
       composite(list(waiting), orders[0].data(), length(waiting), under, out);
       store(waiting, out);
     }
+    for (int t = 0; t < 2; ++t) images_[t]->storeRow(y, columns.data(), int(columns.size()), results[t].data(), profile_);
   }
 
   const std::vector<StoredFragment>& fragments_;
   const std::vector<uint64_t>& start_;
-  const Image& opaque_;
-  const Image& analysis_;
+  Image* images_[2];
+  Profile profile_;
   int width_;
   bool useDouble_;
-  ResolvedColors* resolved_;
 };
 
 class Abuffer final : public Method {
@@ -283,14 +287,11 @@ class Abuffer final : public Method {
       util::reserveOnHugePages(fragments, total);
       fragments.resize(total);
     }
-    // How many of each pixel's fragments the storing pass has stored, and each pixel's OVER onto
-    // both backgrounds from the tile's resolve (written and read only where there are fragments):
-    // kept between frames, as the lists are.
+    // How many of each pixel's fragments the storing pass has stored: kept between frames, as the
+    // lists are.
     filled_.assign(pixels, 0);
-    if (resolved_.size() < pixels) resolved_.resize(pixels);
     uint32_t* const filled = filled_.data();
-    const ResolvedColors* const resolvedColors = resolved_.data();
-    const TileResolve resolveTile{fragments, start, t.opaque(), t.analysis(), w, useDouble_, resolved_.data()};
+    const TileResolve resolveTile{fragments, start, t.opaque(), t.analysis(), context.profile, useDouble_};
     run.transparentBatchPass("store+resolve", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
       const size_t row = size_t(in.y) * w;
       for (int i = 0; i < in.count; ++i) {
@@ -302,16 +303,6 @@ class Abuffer final : public Method {
         if (slot + 2 < total) __builtin_prefetch(&fragments[slot + 2], 1);
       }
     }, false, false, {}, true, true, [&resolveTile](const TileRect& r) { resolveTile(r); });
-
-    run.compositeOntoBackgroundsBatch(t, "composite", [&](const FragmentBatch& in, const glm::vec3* const[2],
-                                                          glm::vec3* const result[2], bool* resolved) {
-      const size_t row = size_t(in.y) * w;
-      for (int i = 0; i < in.count; ++i) {
-        const size_t p = row + size_t(in.x[i]);
-        resolved[i] = start[p + 1] > start[p];
-        if (resolved[i]) result[0][i] = resolvedColors[p][0], result[1][i] = resolvedColors[p][1];
-      }
-    });
 
     result.stats.fragments = total;
     result.stats.depthComplexityMax = deepestCount;
@@ -327,14 +318,12 @@ class Abuffer final : public Method {
   // The attachments and copies of every method, and the lists' heads.
   std::vector<MemoryItem> frameBuffers(int width, int height, const SceneGeometry& geometry) const {
     std::vector<MemoryItem> items = Method::memoryNeed(width, height, geometry);
-    items.push_back({"list heads, fill levels and resolved colours (36 B/pixel)",
-                     uint64_t(width) * uint64_t(height) * (sizeof(uint64_t) + sizeof(uint32_t) + sizeof(ResolvedColors))});
+    items.push_back({"list heads and fill levels (12 B/pixel)", uint64_t(width) * uint64_t(height) * 12});
     return items;
   }
   bool useDouble_;
   uint64_t maxFragments_;
   std::vector<uint32_t> filled_;
-  std::vector<ResolvedColors> resolved_;
 };
 
 }  // namespace
