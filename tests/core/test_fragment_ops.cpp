@@ -5,7 +5,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
-#include <thread>
 
 #include "oitref/core/blend.h"
 #include "render_helpers.h"
@@ -601,53 +600,6 @@ TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after 
     CHECK(stats[1].fragmentsWritten > 0);
   }
   CHECK(wrongDrawId.load() == 0);
-}
-
-TEST_CASE("fragment ops: a tile shader runs once per tile, after the tile's last fragment, on its worker", "[fragment]") {
-  // Renderer::drawSequence's afterEachTile: the tiles it is called with cover the viewport once
-  // each; at that moment every fragment of every draw has reached the tile's pixels (nothing
-  // arrives later), and the call runs on the thread that shaded them (the A-buffer's resolve reads
-  // what the shader stored there without a lock).
-  std::vector<Geometry> geometries;
-  for (uint32_t d = 0; d < 5; ++d) geometries.push_back(overlappingTriangles(40, 200 + d));
-  for (bool perFragment : {false, true}) {
-    std::vector<int> seen(size_t(W) * H, 0), seenAtTileEnd(size_t(W) * H, -1), tileCalls(size_t(W) * H, 0);
-    std::vector<std::thread::id> shadedBy(size_t(W) * H);
-    std::atomic<int> calls{0}, otherThread{0};
-    const FragmentProgram program = programOf([&](const FragmentInput& in, FragmentOutput& o) {
-      const size_t p = size_t(in.y) * W + size_t(in.x);
-      ++seen[p];
-      shadedBy[p] = std::this_thread::get_id();
-      o.write(0, colorOf(in.primitiveId));
-    });
-    const TileShader afterEachTile = [&](const TileRect& r) {
-      calls.fetch_add(1, std::memory_order_relaxed);
-      for (int y = r.y0; y < r.y1; ++y)
-        for (int x = r.x0; x < r.x1; ++x) {
-          const size_t p = size_t(y) * W + size_t(x);
-          seenAtTileEnd[p] = seen[p];
-          ++tileCalls[p];
-          if (seen[p] > 0 && shadedBy[p] != std::this_thread::get_id()) otherThread.fetch_add(1, std::memory_order_relaxed);
-        }
-    };
-    Renderer r(RendererOptions{3, 8, perFragment});
-    Image a(makeFormat(FormatId::RGBA8), W, H);
-    Framebuffer fb;
-    fb.color[0] = &a;
-    PipelineState st;
-    std::vector<Renderer::DrawCall> draws;
-    for (uint32_t d = 0; d < 5; ++d) draws.push_back({&geometries[d], program, d});
-    const DrawStats stats = r.drawSequence(fb, st, draws, afterEachTile);
-    INFO("per fragment " << perFragment);
-    CHECK(calls.load() == 3 * 3);  // 24×20 in tiles of 8
-    CHECK(tileCalls == std::vector<int>(size_t(W) * H, 1));
-    CHECK(seenAtTileEnd == seen);
-    CHECK(otherThread.load() == 0);
-    uint64_t total = 0;
-    for (int n : seen) total += uint64_t(n);
-    CHECK(total == stats.fragmentsShaded);
-    CHECK(total > uint64_t(W) * H);
-  }
 }
 
 TEST_CASE("fragment ops: a shader's declared depth test discards unshaded, with the shader's bits and counts", "[fragment]") {

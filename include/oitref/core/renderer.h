@@ -56,16 +56,6 @@ struct TileShape {
   int width = 128, height = 32;
 };
 
-// Work on a tile's pixels after a draw sequence has drawn them, as a tiling GPU runs a tile shader
-// on a tile's own memory between draws (Metal's dispatchThreadsPerTile): what the fragment shaders
-// gathered for the tile is finished while it is in the worker's cache, not read back from memory
-// after the whole frame. Called once per tile, on the worker that drew it, after the tile's last
-// fragment; [x0, x1) × [y0, y1) are the tile's pixels.
-struct TileRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-};
-using TileShader = std::function<void(const TileRect&)>;
-
 struct RendererOptions {
   int threads = 0;      // 0: every hardware thread
   // Square tiles of this many pixels, a power of two from 8 to 256; 0 (the default): wide tiles
@@ -107,8 +97,7 @@ class Renderer {
     FragmentProgram program;
     uint32_t drawId = 0;
   };
-  DrawStats drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws,
-                         const TileShader& afterEachTile = {});
+  DrawStats drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws);
   // One fragment per pixel of the viewport, at window depth 0, with no attributes, through the
   // same fragment operations (depth test if enabled, blending, write masks).
   DrawStats drawFullscreen(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program);

@@ -173,14 +173,10 @@ class AttachmentPool {
   // whose values are undefined (the A-buffer writes every one), in the kept buffer where there is
   // one (no new pages to fault in and zero: at 1080p of `dense`, 1.7 GB a frame).
   std::vector<TransparentFragment> takeFragments(size_t n);
-  // The same for the lists' heads (FragmentLists::start): n undefined values.
-  std::vector<uint64_t> takeListStarts(size_t n);
   // Gives back every image of a finished frame (final8, finalFloat, dump) and its fragment
-  // lists, and empties it.
+  // storage, and empties it.
   void recycle(FrameResult&& frame);
-  size_t size() const {  // attachments kept
-    return images_.size() + depths_.size() + (fragments_.buffer.capacity() > 0) + (listStarts_.buffer.capacity() > 0);
-  }
+  size_t size() const { return images_.size() + depths_.size() + (fragments_.capacity() > 0); }  // attachments kept
 
  private:
   template <typename F>
@@ -195,18 +191,8 @@ class AttachmentPool {
   std::vector<DepthBuffer> depths_;
   std::vector<ImageKind> lentImages_;  // one entry per attachment out on loan
   std::vector<DepthKind> lentDepths_;
-  // A kept buffer (capacity 0: none) and how many of its kind are out on loan.
-  template <typename T>
-  struct Kept {
-    std::vector<T> buffer;
-    int lent = 0;
-  };
-  template <typename T>
-  static std::vector<T> takeBuffer(Kept<T>& kept, size_t n, bool hugePages);
-  template <typename T>
-  static void giveBuffer(Kept<T>& kept, std::vector<T>&& v);
-  Kept<TransparentFragment> fragments_;
-  Kept<uint64_t> listStarts_;
+  std::vector<TransparentFragment> fragments_;  // kept fragment storage (capacity 0: none)
+  int lentFragments_ = 0;                       // fragment buffers out on loan
 };
 
 class Method {

@@ -121,12 +121,10 @@ class PassRunner {
   // `readsDepth` false: the shader reads neither in.depth nor in.viewDepth, so the pipeline need
   // not compute the window depth where it proves the depth test passes (FragmentProgram::readsDepth);
   // `readsViewDepth` false: it reads in.depth but not in.viewDepth (FragmentProgram::readsViewDepth).
-  // `afterEachTile`: work on each tile's pixels once the pass has drawn them (renderer.h's TileShader).
   template <typename BatchShader>
   void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                             const BatchShader& shader, bool mayDiscard = false, bool pure = false,
-                            const ShaderDepthTest& discardTest = {}, bool readsDepth = true, bool readsViewDepth = true,
-                            const TileShader& afterEachTile = {}) {
+                            const ShaderDepthTest& discardTest = {}, bool readsDepth = true, bool readsViewDepth = true) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       const TextureFiltering filtering = context_.profile.texture;
       FragmentProgram program = programOfBatch(
@@ -158,7 +156,7 @@ class PassRunner {
       program.readsViewDepth = readsViewDepth;
       withSurfaceTest(program, object, state);
       return program;
-    }, afterEachTile);
+    });
   }
   // A pass whose shader reads nothing of the surface — only each fragment's position, depths and
   // ids: shader(const FragmentBatch& in, FragmentBatchOutput& out). No attribute is interpolated,
@@ -236,8 +234,7 @@ class PassRunner {
   // transparentPass's body: programFor(object) is the fragment program of the object's draw; one
   // that does not say how many attributes it reads reads those of shadeSurface.
   void drawTransparent(const std::string& name, Framebuffer& fb, const PipelineState& state,
-                       const std::function<FragmentProgram(const SceneObject&)>& programFor,
-                       const TileShader& afterEachTile = {});
+                       const std::function<FragmentProgram(const SceneObject&)>& programFor);
   PipelineState compositeState() const;  // compositeBlend() on both presented targets
   // What a program through shadeSurface declares for `object` (scene_geometry.h): the attributes
   // and derivatives it reads and, for an alpha-tested object, that it may discard. A shader that

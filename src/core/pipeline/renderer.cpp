@@ -216,8 +216,7 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   return drawSequence(fb, state, {DrawCall{&geometry, program, 0}});
 }
 
-DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws,
-                                 const TileShader& afterEachTile) {
+DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws) {
   fb.validate();
   for (const DrawCall& d : draws) d.geometry->validate();
   const detail::SetupContext context = makeContext(fb, state);
@@ -252,22 +251,20 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->execute([&] {
     workerParallelFor(size_t(grid.count()), [&](size_t tile) {
-      const detail::PixelRect rect = grid.tileRect(int(tile));
       std::optional<detail::FragmentStage> stage;  // made for the tile's first draw, kept for the rest
       for (size_t d = 0; d < draws.size(); ++d) {
         const detail::BinnedTriangles& b = bins[d];
         if (b.tileStart[tile] == b.tileStart[tile + 1]) continue;
         if (!stage) {
           stage.emplace(fb, state, draws[d].program, draws[d].geometry, viewportRect(context), draws[d].drawId);
-          stage->beginTile(rect);
+          stage->beginTile(grid.tileRect(int(tile)));
         } else {
           stage->beginDraw(draws[d].program, draws[d].geometry, draws[d].drawId);
         }
-        detail::rasterizeTile(b, int(tile), rect, state.raster.subpixelBits, options_.perFragment,
+        detail::rasterizeTile(b, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, options_.perFragment,
                               *stage);
       }
       if (stage) perTile[tile] = stage->counters();
-      if (afterEachTile) afterEachTile({rect.x0, rect.y0, rect.x1, rect.y1});
     });
   });
   for (const auto& c : perTile) addCounters(stats, c);

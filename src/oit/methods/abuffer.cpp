@@ -7,12 +7,10 @@
 // Storage is built as a GPU A-buffer with a prefix sum would: a counting pass, a check against
 // the `max_fragments` budget (an error naming the deepest pixel, never an out-of-memory kill),
 // then a storing pass. Each tile's pixels belong to one worker, so the per-pixel writes of the
-// fragment shader are race-free and in submission order; the same worker resolves the tile's
-// lists as soon as it has drawn the tile (TileResolve, a tile shader).
+// fragment shader are race-free and in submission order.
 #include <algorithm>
 #include <atomic>
 #include <cstring>
-#include <memory>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
@@ -100,92 +98,6 @@ void compositePairBackToFront(const StoredFragment* listA, const uint32_t* order
   b.finish(resultB);
 }
 
-// The A-buffer's resolve of one tile (Renderer's TileShader), run by the worker that stored the
-// tile's fragments as soon as it has: each pixel's list sorted and composited onto both
-// backgrounds, the presented images (the opaque image and its RGBA32F analysis copy), while the
-// tile's lists, just written, are still partly in cache — instead of a full-screen pass that reads
-// every list back from memory after the whole frame. The store pass binds neither image, so the
-// tile's pixels are its worker's alone; each result is stored by the image's format rule under
-// the profile (Image::storeRow), as a full-screen pass without blending would store it.
-class TileResolve {
- public:
-  TileResolve(const std::vector<StoredFragment>& fragments, const std::vector<uint64_t>& start, Image& opaque,
-              Image& analysis, const Profile& profile, bool useDouble)
-      : fragments_(fragments), start_(start), images_{&opaque, &analysis}, profile_(profile), width_(opaque.width()),
-        useDouble_(useDouble) {}
-
-  void operator()(const TileRect& r) const {
-    for (int y = r.y0; y < r.y1; ++y) resolveRow(y, r.x0, r.x1);
-  }
-
- private:
-  // Pixels [x0, x1) of row y. The stored lists stay in submission order for the result; the
-  // resolve sorts positions. Two pixels at a time, side by side (DepthOrder::sortPair,
-  // compositePairBackToFront): each insertion and each layer waits for the one before, and the
-  // other pixel's work fills that wait.
-  void resolveRow(int y, int x0, int x1) const {
-    const size_t row = size_t(y) * size_t(width_) + size_t(x0);
-    const int n = x1 - x0;
-    if (start_[row + size_t(n)] == start_[row]) return;  // no fragments in this row of the tile
-    thread_local std::vector<glm::vec4> texels[2], results[2];
-    thread_local std::vector<int> columns;
-    columns.clear();
-    for (int t = 0; t < 2; ++t) {
-      texels[t].resize(size_t(n)), results[t].resize(size_t(n));
-      images_[t]->fetchRun(y, x0, n, texels[t].data());
-    }
-    thread_local DepthOrder depthOrder;
-    thread_local std::vector<uint32_t> orders[2];
-    auto list = [&](int i) { return fragments_.data() + start_[row + size_t(i)]; };
-    auto length = [&](int i) { return uint32_t(start_[row + size_t(i) + 1] - start_[row + size_t(i)]); };
-    auto backgrounds = [&](int i, glm::vec3 out[2]) {
-      out[0] = glm::vec3(texels[0][size_t(i)]), out[1] = glm::vec3(texels[1][size_t(i)]);
-    };
-    auto store = [&](int i, const glm::vec3 out[2]) {
-      for (int t = 0; t < 2; ++t) results[t][columns.size()] = glm::vec4(out[t], 1.0f);
-      columns.push_back(x0 + i);
-    };
-    const auto composite = useDouble_ ? compositeBackToFront<double> : compositeBackToFront<float>;
-    int waiting = -1;  // a pixel whose list waits for a second one
-    for (int i = 0; i < n; ++i) {
-      if (length(i) == 0) continue;
-      if (waiting < 0) {
-        waiting = i;
-        continue;
-      }
-      const int first = std::exchange(waiting, -1);
-      orders[0].resize(length(first)), orders[1].resize(length(i));
-      depthOrder.sortPair(list(first), length(first), orders[0].data(), list(i), length(i), orders[1].data());
-      glm::vec3 under[2][2], out[2][2];
-      backgrounds(first, under[0]), backgrounds(i, under[1]);
-      if (useDouble_) {
-        composite(list(first), orders[0].data(), length(first), under[0], out[0]);
-        composite(list(i), orders[1].data(), length(i), under[1], out[1]);
-      } else {
-        compositePairBackToFront(list(first), orders[0].data(), length(first), under[0], out[0], list(i), orders[1].data(),
-                                 length(i), under[1], out[1]);
-      }
-      store(first, out[0]), store(i, out[1]);
-    }
-    if (waiting >= 0) {
-      orders[0].resize(length(waiting));
-      depthOrder.sort(list(waiting), length(waiting), orders[0].data());
-      glm::vec3 under[2], out[2];
-      backgrounds(waiting, under);
-      composite(list(waiting), orders[0].data(), length(waiting), under, out);
-      store(waiting, out);
-    }
-    for (int t = 0; t < 2; ++t) images_[t]->storeRow(y, columns.data(), int(columns.size()), results[t].data(), profile_);
-  }
-
-  const std::vector<StoredFragment>& fragments_;
-  const std::vector<uint64_t>& start_;
-  Image* images_[2];
-  Profile profile_;
-  int width_;
-  bool useDouble_;
-};
-
 class Abuffer final : public Method {
  public:
   explicit Abuffer(const MethodOptions& o)
@@ -228,18 +140,15 @@ class Abuffer final : public Method {
     for (const MemoryItem& i : frameBuffers(w, h, context.geometry)) known += i.bytes;
     const uint64_t spare = context.memoryLimit > known ? context.memoryLimit - known : 0;
     const uint64_t fitting = std::min(maxFragments_, spare / sizeof(StoredFragment));
-    // The lists' heads: the counting pass counts pixel p's fragments in start[p + 1], and a prefix
-    // sum turns the counts into where each list starts. Kept between frames with the fragments.
-    std::vector<uint64_t> start = context.pool ? context.pool->takeListStarts(pixels + 1) : std::vector<uint64_t>(pixels + 1);
-    std::fill(start.begin(), start.end(), 0);
+    std::vector<uint32_t> count(pixels, 0);
     std::atomic<uint64_t> counted{0};
     const uint64_t frameId = nextFrameId();
     bool stopped = false;
     try {
       run.transparentPositionPass("count", depthOnly, st, [&](const FragmentBatch& in, FragmentBatchOutput&) {
-        uint64_t* row = start.data() + 1 + size_t(in.y) * w;
+        uint32_t* row = count.data() + size_t(in.y) * w;
         if (in.x[in.count - 1] - in.x[0] == in.count - 1) {  // a run of pixels (x ascending): in lanes
-          uint64_t* run = row + in.x[0];
+          uint32_t* run = row + in.x[0];
           for (int i = 0; i < in.count; ++i) ++run[i];
         } else {
           for (int i = 0; i < in.count; ++i) ++row[in.x[i]];
@@ -263,13 +172,10 @@ class Abuffer final : public Method {
                                formatBytes(known) + " under the memory limit of " + formatBytes(context.memoryLimit) +
                                " (the count stopped there). Render smaller or raise --memory-limit.");
     }
-    const uint64_t total = std::accumulate(start.begin(), start.end(), uint64_t(0));
-    const size_t deepest = size_t(std::max_element(start.begin() + 1, start.end()) - (start.begin() + 1));
-    const uint64_t deepestCount = start[deepest + 1];
-    uint64_t covered = 0;
-    for (size_t p = 0; p < pixels; ++p) covered += start[p + 1] > 0;
+    const uint64_t total = std::accumulate(count.begin(), count.end(), uint64_t(0));
+    const size_t deepest = size_t(std::max_element(count.begin(), count.end()) - count.begin());
     const std::string deepestText = "; the deepest pixel (" + std::to_string(deepest % w) + "," + std::to_string(deepest / w) +
-                                    ") has " + std::to_string(deepestCount) + " layers.";
+                                    ") has " + std::to_string(count[deepest]) + " layers.";
     const uint64_t fragmentBytes = total * sizeof(StoredFragment);
     if (known + fragmentBytes > context.memoryLimit)
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments need " + formatBytes(fragmentBytes) +
@@ -279,7 +185,8 @@ class Abuffer final : public Method {
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments exceed max_fragments=" +
                                std::to_string(maxFragments_) + " (" + std::to_string(total * sizeof(StoredFragment) >> 20) +
                                " MiB)" + deepestText + " Raise it with --set max_fragments=N or render smaller.");
-    for (size_t p = 0; p < pixels; ++p) start[p + 1] += start[p];
+    std::vector<uint64_t> start(pixels + 1, 0);
+    for (size_t p = 0; p < pixels; ++p) start[p + 1] = start[p] + count[p];
     std::vector<StoredFragment> fragments;
     if (context.pool) {
       fragments = context.pool->takeFragments(total);
@@ -287,12 +194,8 @@ class Abuffer final : public Method {
       util::reserveOnHugePages(fragments, total);
       fragments.resize(total);
     }
-    // How many of each pixel's fragments the storing pass has stored: kept between frames, as the
-    // lists are.
-    filled_.assign(pixels, 0);
-    uint32_t* const filled = filled_.data();
-    const TileResolve resolveTile{fragments, start, t.opaque(), t.analysis(), context.profile, useDouble_};
-    run.transparentBatchPass("store+resolve", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
+    std::vector<uint32_t> filled(pixels, 0);
+    run.transparentBatchPass("store", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
       const size_t row = size_t(in.y) * w;
       for (int i = 0; i < in.count; ++i) {
         const size_t p = row + in.x[i];
@@ -302,10 +205,59 @@ class Abuffer final : public Method {
         // fragment comes with a later primitive, and its write would otherwise wait on memory.
         if (slot + 2 < total) __builtin_prefetch(&fragments[slot + 2], 1);
       }
-    }, false, false, {}, true, true, [&resolveTile](const TileRect& r) { resolveTile(r); });
+    });
 
+    const bool useDouble = useDouble_;
+    const auto composite = useDouble ? compositeBackToFront<double> : compositeBackToFront<float>;
+    run.compositeOntoBackgroundsBatch(t, "sort+composite", [&](const FragmentBatch& in, const glm::vec3* const background[2],
+                                                               glm::vec3* const result[2], bool* resolved) {
+      // The stored lists stay in submission order for the result; the resolve sorts positions.
+      // Two pixels at a time, side by side (DepthOrder::sortPair, compositePairBackToFront): each
+      // insertion and each layer waits for the one before, and the other pixel's work fills that
+      // wait.
+      thread_local DepthOrder depthOrder;
+      thread_local std::vector<uint32_t> orders[2];
+      const size_t row = size_t(in.y) * w;
+      auto list = [&](int i) { return fragments.data() + start[row + size_t(in.x[i])]; };
+      auto length = [&](int i) { return count[row + size_t(in.x[i])]; };
+      auto backgrounds = [&](int i, glm::vec3 out[2]) { out[0] = background[0][i], out[1] = background[1][i]; };
+      auto store = [&](int i, const glm::vec3 out[2]) { result[0][i] = out[0], result[1][i] = out[1]; };
+      int waiting = -1;  // a pixel whose list waits for a second one
+      for (int i = 0; i < in.count; ++i) {
+        resolved[i] = length(i) > 0;
+        if (!resolved[i]) continue;
+        if (waiting < 0) {
+          waiting = i;
+          continue;
+        }
+        const int first = std::exchange(waiting, -1);
+        orders[0].resize(length(first)), orders[1].resize(length(i));
+        depthOrder.sortPair(list(first), length(first), orders[0].data(), list(i), length(i), orders[1].data());
+        glm::vec3 under[2][2], out[2][2];
+        backgrounds(first, under[0]), backgrounds(i, under[1]);
+        if (useDouble) {
+          composite(list(first), orders[0].data(), length(first), under[0], out[0]);
+          composite(list(i), orders[1].data(), length(i), under[1], out[1]);
+        } else {
+          compositePairBackToFront(list(first), orders[0].data(), length(first), under[0], out[0], list(i), orders[1].data(),
+                                   length(i), under[1], out[1]);
+        }
+        store(first, out[0]), store(i, out[1]);
+      }
+      if (waiting >= 0) {
+        orders[0].resize(length(waiting));
+        depthOrder.sort(list(waiting), length(waiting), orders[0].data());
+        glm::vec3 under[2], out[2];
+        backgrounds(waiting, under);
+        composite(list(waiting), orders[0].data(), length(waiting), under, out);
+        store(waiting, out);
+      }
+    });
+
+    uint64_t covered = 0;
+    for (uint32_t c : count) covered += c > 0;
     result.stats.fragments = total;
-    result.stats.depthComplexityMax = deepestCount;
+    result.stats.depthComplexityMax = count[deepest];
     result.stats.depthComplexityMean = double(total) / double(pixels);
     result.stats.pixelsWithTransparency = covered;
     result.stats.fragmentStorageBytes = total * sizeof(StoredFragment) + (pixels + 1) * sizeof(uint64_t);
@@ -318,12 +270,11 @@ class Abuffer final : public Method {
   // The attachments and copies of every method, and the lists' heads.
   std::vector<MemoryItem> frameBuffers(int width, int height, const SceneGeometry& geometry) const {
     std::vector<MemoryItem> items = Method::memoryNeed(width, height, geometry);
-    items.push_back({"list heads and fill levels (12 B/pixel)", uint64_t(width) * uint64_t(height) * 12});
+    items.push_back({"fragment counts, offsets and fill levels (16 B/pixel)", uint64_t(width) * uint64_t(height) * 16});
     return items;
   }
   bool useDouble_;
   uint64_t maxFragments_;
-  std::vector<uint32_t> filled_;
 };
 
 }  // namespace

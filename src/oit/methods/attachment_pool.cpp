@@ -51,39 +51,24 @@ void AttachmentPool::give(DepthBuffer&& depth) {
 }
 
 std::vector<TransparentFragment> AttachmentPool::takeFragments(size_t n) {
-  return takeBuffer(fragments_, n, true);
-}
-
-std::vector<uint64_t> AttachmentPool::takeListStarts(size_t n) {
-  // Not on huge pages: read in order, they gain nothing there, and on them (in the heap, where
-  // malloc puts 16 MiB) dense 1080p's A-buffer frames took 747 → 845–882 ms on one thread.
-  return takeBuffer(listStarts_, n, false);
-}
-
-template <typename T>
-std::vector<T> AttachmentPool::takeBuffer(Kept<T>& kept, size_t n, bool hugePages) {
-  ++kept.lent;
-  std::vector<T> v = std::move(kept.buffer);
-  kept.buffer = {};
+  ++lentFragments_;
+  std::vector<TransparentFragment> v = std::move(fragments_);
+  fragments_ = {};
   if (n > v.capacity()) v = {};  // a new allocation (reserveOnHugePages), not a copy of the old one's elements
-  if (hugePages) util::reserveOnHugePages(v, n);
+  util::reserveOnHugePages(v, n);
   v.resize(n);  // shrinking touches nothing; growing value-initialises only the new part
   return v;
-}
-
-template <typename T>
-void AttachmentPool::giveBuffer(Kept<T>& kept, std::vector<T>&& v) {
-  if (kept.lent == 0 || v.capacity() == 0) return;  // as give(): only what stands in for a loan
-  --kept.lent;
-  if (v.capacity() > kept.buffer.capacity()) kept.buffer = std::move(v);
 }
 
 void AttachmentPool::recycle(FrameResult&& frame) {
   give(std::move(frame.final8));
   give(std::move(frame.finalFloat));
   for (auto& [name, image] : frame.dump) give(std::move(image));
-  giveBuffer(fragments_, std::move(frame.fragmentLists.fragments));
-  giveBuffer(listStarts_, std::move(frame.fragmentLists.start));
+  std::vector<TransparentFragment>& fragments = frame.fragmentLists.fragments;
+  if (lentFragments_ > 0 && fragments.capacity() > 0) {  // as give(): only what stands in for a loan
+    --lentFragments_;
+    if (fragments.capacity() > fragments_.capacity()) fragments_ = std::move(fragments);
+  }
   frame = FrameResult{};
 }
 
