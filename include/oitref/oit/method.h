@@ -35,6 +35,10 @@ struct AttachmentDecl {
   bool isDepth = false;
   Format format{};                       // colour attachments
   DepthFormat depthFormat = DepthFormat::D24;  // depth attachments
+  // Whether the method's composite (its last full-screen pass) reads it: false for a depth
+  // attachment, and for one only earlier passes read (AttachmentList::readBeforeCompositeOnly).
+  // What glcheck's composite floor counts.
+  bool readByComposite = true;
   int bytesPerTexel() const;
   std::string formatName() const;
 };

@@ -39,6 +39,8 @@ class AttachmentList {
   ColorHandle color(std::string name, const Format& format, std::string purpose);
   ColorHandle color(std::string name, const std::string& format, std::string purpose);
   DepthHandle depth(std::string name, DepthFormat format, std::string purpose);
+  // Declares that the composite does not read `handle` (AttachmentDecl::readByComposite).
+  void readBeforeCompositeOnly(ColorHandle handle);
   const std::vector<AttachmentDecl>& declared() const { return declared_; }
 
  private:

@@ -105,7 +105,7 @@ double compositeTrafficBytes(const std::vector<AttachmentDecl>& attachments, int
   const double pixels = double(width) * double(height);
   double perPixel = 0;
   for (const AttachmentDecl& a : attachments)
-    perPixel += a.isDepth ? (a.depthFormat == DepthFormat::D16 ? 2 : 4) : a.format.bytesPerTexel();
+    if (a.readByComposite) perPixel += a.bytesPerTexel();
   perPixel += 4 + 16 + 16;  // the presented RGBA8 ("opaque", counted once above) written, the analysis copy read and written
   return perPixel * pixels;
 }

@@ -43,9 +43,10 @@ struct MethodTiming {
 // counting each byte read and written (GB/s, 10^9 bytes).
 double measureMemoryBandwidth();
 
-// The least memory traffic of a frame's composite, which reads every attachment the method
-// declares once and reads and writes the two presented targets (RGBA8 and the RGBA32F analysis
-// copy): bytes. Over the bandwidth, the time below which no full-screen composite can go.
+// The least memory traffic of a frame's composite, which reads once every attachment the method
+// declares as read by it (AttachmentDecl::readByComposite: not the depth buffer, not MBOIT's
+// moments) and reads and writes the two presented targets (RGBA8 and the RGBA32F analysis copy):
+// bytes. Over the bandwidth, the time below which no full-screen composite can go.
 double compositeTrafficBytes(const std::vector<AttachmentDecl>& attachments, int width, int height);
 
 // The median over i of a[i] / b[i] (same length, at least one).

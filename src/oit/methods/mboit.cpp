@@ -84,6 +84,10 @@ class Mboit final : public OpaqueFirstMethod {
     if (set_.reals() > 4) momentsMore_ = declared.color("moments_more", set_.reals() == 6 ? two : four, momentRange(4, set_.reals()) + ", " + blend);
     accum_ = declared.color("accum", o.format("accum"), "Σ(c·α·w, α·w), blended ONE, ONE");
     reveal_ = declared.color("reveal", "r32f", "Π(1 − α), blended ZERO, ONE_MINUS_SRC_COLOR");
+    // The composite is WBOIT's (compositeWeighted): accum and reveal only.
+    declared.readBeforeCompositeOnly(b0_);
+    declared.readBeforeCompositeOnly(moments_);
+    if (set_.reals() > 4) declared.readBeforeCompositeOnly(momentsMore_);
   }
   const MethodInfo& info() const override { return mboitInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& t, FrameResult& result) override {

@@ -41,10 +41,15 @@ ColorHandle AttachmentList::color(std::string name, const std::string& format, s
   return color(std::move(name), parseFormat(format), std::move(purpose));
 }
 
+void AttachmentList::readBeforeCompositeOnly(ColorHandle handle) {
+  declared_.at(size_t(handle.index)).readByComposite = false;
+}
+
 DepthHandle AttachmentList::depth(std::string name, DepthFormat format, std::string purpose) {
   AttachmentDecl d;
   d.name = std::move(name);
   d.isDepth = true;
+  d.readByComposite = false;
   d.depthFormat = format;
   d.purpose = std::move(purpose);
   return {add(std::move(d))};
