@@ -74,7 +74,8 @@ TEST_CASE("blend: kernels compiled for the methods' blend states give the genera
 }
 
 // TargetBlender::blendBatch runs eight lanes at a time — the llvmpipe float model (two rgba, four
-// rg or eight r pixels per call; AVX2), the exact and llvmpipe-UNORM fast kernels (two pixels) —
+// rg or eight r pixels per call; AVX2), the exact float kernels (two rgba, four rg or eight r
+// pixels), the exact and llvmpipe-UNORM fast kernels of RGBA8 (two pixels) —
 // with the pixels left over one at a time: every batch size (past the llvmpipe model's chunk of
 // 64 too), the methods' states (compiled kernels) and random states (the general functions),
 // against the per-fragment general kernel. blendRun, the same pixels as one run of consecutive
@@ -96,7 +97,7 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
     const Format f = parseFormat(name);
     const int bytes = f.bytesPerTexel();
     for (const Profile& p : {llvmpipeProfile(), parseProfile("llvmpipe,fma=off"), exactProfile(),
-                             parseProfile("exact,unorm=fp32"), parseProfile("exact,unorm=nvidia")})
+                             parseProfile("exact,unorm=fp32"), parseProfile("exact,unorm=nvidia"), parseProfile("exact,fp16=rtz")})
       for (const BlendState& state : states)
         for (bool smallFloatBound : {false, true}) {
           glm::vec4 constant;
@@ -134,7 +135,7 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
           }
         }
   }
-  CHECK(compared == 9 * 5 * int(states.size()) * 2 * 8);
+  CHECK(compared == 9 * 6 * int(states.size()) * 2 * 8);
 }
 
 // llvmpipe's UNORM8 integer blend has two compiled batches per method state: the build's ISA (one

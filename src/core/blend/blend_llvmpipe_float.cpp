@@ -348,96 +348,6 @@ v4f general(const LlvmpipeFloatPlan& plan, v4f constant, v4f source, v4f destina
 // (llvmpipeFloatTexelsFor); the same IEEE operations per lane as the four-lane path.
 #define LP_AVX2 [[gnu::target("avx2")]]
 
-// The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
-// encodeHalfInline) into the bytes of 8 / Channels whole texels, in pixel order: written lane by
-// lane, the result waited on its own store (store forwarding) and the rounding was tested per channel.
-template <bool Half>
-LP_INLINE void encodeLanes(v8f r, Rounding fp16, uint8_t* out) {
-  if constexpr (Half) {
-#if defined(OITREF_HAVE_F16C)
-    const __m128i packed = fp16 == Rounding::TowardZero
-                               ? _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
-                               : _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packed);
-#else
-    for (int l = 0; l < 8; ++l) {
-      const uint16_t h = encodeHalfInline(r[l], fp16);
-      std::memcpy(out + 2 * l, &h, 2);
-    }
-#endif
-  } else {
-    std::memcpy(out, &r, sizeof r);
-  }
-}
-
-// Where the pixels of a batch are. ScatteredPixels: a pointer per pixel to its source and its
-// texel (any pixels). PixelRun: consecutive texels with the sources side by side (a span whose
-// every fragment blends): a group's texels are one load and one store. Both put group g's
-// (pixels g·P … g·P + P − 1, P = 8 / Channels) sources and destinations into lanes as
-// gatherLanes arranges them, and store its results; the lanes are the same either way.
-template <int Channels, bool Half>
-struct ScatteredPixels {
-  static constexpr int P = 8 / Channels;
-  const glm::vec4* const* sources;
-  uint8_t* const* texels;
-  ScatteredPixels from(int i) const { return {sources + i, texels + i}; }  // pixels [i, …)
-  LP_INLINE void loadSources(int i, v8f& values, v8f& alphas) const {
-    v4f s[P];
-    for (int p = 0; p < P; ++p) s[p] = load4(*sources[i + p]);
-    gatherLanes<Channels>(s, values, alphas);
-  }
-  LP_INLINE void loadDestinations(int i, v8f& values, v8f& alphas) const {
-    v4f d[P];
-    for (int p = 0; p < P; ++p)
-      d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
-    gatherLanes<Channels>(d, values, alphas);
-  }
-  LP_INLINE void store(int i, v8f r, Rounding fp16) const {
-    constexpr size_t bytes = (Half ? 2 : 4) * Channels;
-    alignas(32) uint8_t out[8 * (Half ? 2 : 4)];
-    encodeLanes<Half>(r, fp16, out);
-    for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], out + p * bytes, bytes);
-  }
-};
-template <int Channels, bool Half>
-struct PixelRun {
-  static constexpr int P = 8 / Channels;
-  static constexpr size_t kTexelBytes = (Half ? 2 : 4) * Channels;
-  const glm::vec4* sources;
-  uint8_t* texels;
-  PixelRun from(int i) const { return {sources + i, texels + size_t(i) * kTexelBytes}; }
-  LP_INLINE void loadSources(int i, v8f& values, v8f& alphas) const {
-    if constexpr (Channels == 4) {  // two pixels' vec4s are the lanes already
-      std::memcpy(&values, sources + i, sizeof values);
-      alphas = __builtin_shufflevector(values, values, 3, 3, 3, 3, 7, 7, 7, 7);
-    } else {
-      v4f s[P];
-      for (int p = 0; p < P; ++p) s[p] = load4(sources[i + p]);
-      gatherLanes<Channels>(s, values, alphas);
-    }
-  }
-  LP_INLINE void loadDestinations(int i, v8f& values, v8f& alphas) const {
-    const uint8_t* t = texels + size_t(i) * kTexelBytes;
-    if constexpr (Half) {
-#if defined(OITREF_HAVE_F16C)
-      values = (v8f)_mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(t)));
-#else
-      float f[8];
-      decodeHalvesInline(t, 8, f);
-      std::memcpy(&values, f, sizeof values);
-#endif
-    } else {
-      std::memcpy(&values, t, sizeof values);
-    }
-    // Each lane's pixel's alpha: lane 3 of a four-channel texel, else the 1 of a target without alpha.
-    if constexpr (Channels == 4) alphas = __builtin_shufflevector(values, values, 3, 3, 3, 3, 7, 7, 7, 7);
-    else alphas = splatLanes<v8f>(1.0f);
-  }
-  LP_INLINE void store(int i, v8f r, Rounding fp16) const {
-    encodeLanes<Half>(r, fp16, texels + size_t(i) * kTexelBytes);
-  }
-};
-
 // Pixels [0, n) blended again with every rare lane's rule applied, from the destinations' lanes
 // as they were loaded: blendTexels's rare chunk. One function per layout with the shape read at run time
 // (the same operations as a shape compiled in, which only folds them), so that each compiled
@@ -588,12 +498,12 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
 template <int Channels, bool Half>
 LP_AVX2 int generalTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                           uint8_t* const* texels, int n, Rounding fp16) {
-  return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, ScatteredPixels<Channels, Half>{sources, texels}, n, fp16);
+  return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, ScatteredTexelLanes<Channels, Half>{sources, texels}, n, fp16);
 }
 template <int Channels, bool Half>
 LP_AVX2 int generalRun(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
                        uint8_t* texels, int n, Rounding fp16) {
-  return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, PixelRun<Channels, Half>{sources, texels}, n, fp16);
+  return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, RunTexelLanes<Channels, Half>{sources, texels}, n, fp16);
 }
 
 template <LlvmpipeFloatShape Shape>
@@ -604,12 +514,12 @@ template <LlvmpipeFloatShape Shape, bool Half>
 LP_AVX2 int compiledTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,
                            uint8_t* const* texels, int n, Rounding fp16) {
   return blendTexels<Shape.channels, Half, KnownShape<Shape>>(plan, constant,
-                                           ScatteredPixels<Shape.channels, Half>{sources, texels}, n, fp16);
+                                           ScatteredTexelLanes<Shape.channels, Half>{sources, texels}, n, fp16);
 }
 template <LlvmpipeFloatShape Shape, bool Half>
 LP_AVX2 int compiledRun(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* sources,
                         uint8_t* texels, int n, Rounding fp16) {
-  return blendTexels<Shape.channels, Half, KnownShape<Shape>>(plan, constant, PixelRun<Shape.channels, Half>{sources, texels},
+  return blendTexels<Shape.channels, Half, KnownShape<Shape>>(plan, constant, RunTexelLanes<Shape.channels, Half>{sources, texels},
                                            n, fp16);
 }
 

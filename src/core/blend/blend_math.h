@@ -195,44 +195,70 @@ constexpr CompiledBlend compileBlend(const BlendState& st) {
   return c;
 }
 
+// The blend of lanes that each hold one channel of one pixel, every rule of table 17.2 and §17.3.6
+// stated once: `lanes(m)` spreads a per-channel pattern m (lanes R, G, B, A of CompiledBlend) over
+// the lanes as their channels lie; `alphaLanes` marks the lanes that hold an alpha channel; sa and
+// ad are each lane's pixel's source and destination alpha, c and ca the constant's channel and
+// alpha. Each lane gets the operations of the scalar formulas, whatever its neighbours hold.
+template <typename V, typename Lanes>
+[[gnu::always_inline]] inline V blendLanes(const CompiledBlend& cb, const Lanes& lanes, IntLanesOf<V> alphaLanes, V s,
+                                            V sa, V d, V ad, V c, V ca) {
+  using I = IntLanesOf<V>;
+  const V one = splatLanes<V>(1.0f);
+  I sRowBits{}, dRowBits{};
+  auto take = [&](int k, V row) {
+    sRowBits |= (I)row & lanes(cb.srcLanes[k]);
+    dRowBits |= (I)row & lanes(cb.dstLanes[k]);
+  };
+  if (cb.rowsUsed & (1u << 1)) take(1, s);
+  if (cb.rowsUsed & (1u << 2)) take(2, select(alphaLanes, ad, d));
+  if (cb.rowsUsed & (1u << 3)) take(3, sa);
+  if (cb.rowsUsed & (1u << 4)) take(4, ad);
+  if (cb.rowsUsed & (1u << 5)) take(5, c);
+  if (cb.rowsUsed & (1u << 6)) take(6, ca);
+  if (cb.rowsUsed & (1u << 7)) {
+    const V oneMinusAd = one - ad;
+    take(7, select(alphaLanes, one, select(sa < oneMinusAd, sa, oneMinusAd)));
+  }
+  const V sRow = (V)sRowBits, dRow = (V)dRowBits;
+  const V sf = select(lanes(cb.srcOneMinus), one - sRow, sRow);
+  const V df = select(lanes(cb.dstOneMinus), one - dRow, dRow);
+  const V a = (V)((I)(s * sf) ^ lanes(cb.negateSrc));
+  const V b = (V)((I)(d * df) ^ lanes(cb.negateDst));
+  V r = a + b;
+  if (cb.anyMinMax) r = select(lanes(cb.minLanes), minNum(s, d), select(lanes(cb.maxLanes), maxNum(s, d), r));
+  return canonicalNan(r);
+}
+
+// A pixel's four channels in four lanes, or two pixels' in eight (the batch kernels).
 // `c` must already be clamped for fixed-point targets (done once per draw by the callers).
-// V = v4f: one pixel; v8f: two pixels, each lane the one-pixel operations (the batch kernels).
 template <typename V>
 [[gnu::always_inline]] inline V blendValues(const CompiledBlend& cb, V s, V d, V c, bool fixedPoint,
                                              bool targetHasAlpha) {
-  using I = IntLanesOf<V>;
   if (fixedPoint) {
     s = clampUnitLanes(s);
     d = clampUnitLanes(d);
   }
-  const V one = splatLanes<V>(1.0f);
-  const I alphaLanes = eachPixel<V>(v4i{0, 0, 0, -1});
-  const V ad = targetHasAlpha ? eachPixelLane<3>(d) : one;
-  I sRowBits{}, dRowBits{};
-  auto take = [&](int k, V row) {
-    sRowBits |= (I)row & eachPixel<V>(cb.srcLanes[k]);
-    dRowBits |= (I)row & eachPixel<V>(cb.dstLanes[k]);
-  };
-  if (cb.rowsUsed & (1u << 1)) take(1, s);
-  if (cb.rowsUsed & (1u << 2)) take(2, select(alphaLanes, ad, d));
-  if (cb.rowsUsed & (1u << 3)) take(3, eachPixelLane<3>(s));
-  if (cb.rowsUsed & (1u << 4)) take(4, ad);
-  if (cb.rowsUsed & (1u << 5)) take(5, c);
-  if (cb.rowsUsed & (1u << 6)) take(6, eachPixelLane<3>(c));
-  if (cb.rowsUsed & (1u << 7)) {
-    const V oneMinusAd = one - ad, sa = eachPixelLane<3>(s);
-    take(7, select(alphaLanes, one, select(sa < oneMinusAd, sa, oneMinusAd)));
-  }
-  const V sRow = (V)sRowBits, dRow = (V)dRowBits;
-  const V sf = select(eachPixel<V>(cb.srcOneMinus), one - sRow, sRow);
-  const V df = select(eachPixel<V>(cb.dstOneMinus), one - dRow, dRow);
-  const V a = (V)((I)(s * sf) ^ eachPixel<V>(cb.negateSrc));
-  const V b = (V)((I)(d * df) ^ eachPixel<V>(cb.negateDst));
-  V r = a + b;
-  if (cb.anyMinMax)
-    r = select(eachPixel<V>(cb.minLanes), minNum(s, d), select(eachPixel<V>(cb.maxLanes), maxNum(s, d), r));
-  r = canonicalNan(r);
+  const V ad = targetHasAlpha ? eachPixelLane<3>(d) : splatLanes<V>(1.0f);
+  const V r = blendLanes<V>(cb, [](v4i m) { return eachPixel<V>(m); }, eachPixel<V>(v4i{0, 0, 0, -1}), s,
+                            eachPixelLane<3>(s), d, ad, c, eachPixelLane<3>(c));
   return fixedPoint ? clampUnitLanes(r) : r;
+}
+
+// Eight lanes of a float target with Channels = 1 or 2 (no alpha): lane l holds channel
+// l mod Channels of pixel l / Channels (gatherLanes), `sa` each lane's pixel's source alpha;
+// the destination alpha is 1. Four to eight pixels at once where blendValues takes two.
+template <int Channels>
+[[gnu::always_inline]] inline v8f blendChannelLanes(const CompiledBlend& cb, v8f s, v8f sa, v8f d, v4f constant) {
+  static_assert(Channels == 1 || Channels == 2);
+  auto lanes = [](v4i m) {
+    if constexpr (Channels == 1) return __builtin_shufflevector(m, m, 0, 0, 0, 0, 0, 0, 0, 0);
+    else return __builtin_shufflevector(m, m, 0, 1, 0, 1, 0, 1, 0, 1);
+  };
+  const v8f c = Channels == 1 ? __builtin_shufflevector(constant, constant, 0, 0, 0, 0, 0, 0, 0, 0)
+                              : __builtin_shufflevector(constant, constant, 0, 1, 0, 1, 0, 1, 0, 1);
+  const v8f ca = __builtin_shufflevector(constant, constant, 3, 3, 3, 3, 3, 3, 3, 3);
+  return blendLanes<v8f>(cb, lanes, v8i{}, s, sa, d, splatLanes<v8f>(1.0f), c, ca);
 }
 
 }  // namespace oitref::detail

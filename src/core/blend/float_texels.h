@@ -56,4 +56,95 @@ inline void gatherLanes(const v4f* px, v8f& values, v8f& alphas) {
   }
 }
 
+// The eight results converted together (fp16: F16C's eight-lane conversion, the rounding of
+// encodeHalfInline) into the bytes of 8 / Channels whole texels, in pixel order: written lane by
+// lane, the result waited on its own store (store forwarding) and the rounding was tested per channel.
+template <bool Half>
+[[gnu::always_inline]] inline void encodeLanes(v8f r, Rounding fp16, uint8_t* out) {
+  if constexpr (Half) {
+#if defined(OITREF_HAVE_F16C)
+    const __m128i packed = fp16 == Rounding::TowardZero
+                               ? _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC)
+                               : _mm256_cvtps_ph((__m256)r, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), packed);
+#else
+    for (int l = 0; l < 8; ++l) {
+      const uint16_t h = encodeHalfInline(r[l], fp16);
+      std::memcpy(out + 2 * l, &h, 2);
+    }
+#endif
+  } else {
+    std::memcpy(out, &r, sizeof r);
+  }
+}
+
+// Where the pixels of a batch are, for the eight-lane kernels (blend_llvmpipe_float.cpp, and the
+// fewer-channel targets of target_blender.cpp). ScatteredTexelLanes: a pointer per pixel to its source and its
+// texel (any pixels). RunTexelLanes: consecutive texels with the sources side by side (a span whose
+// every fragment blends): a group's texels are one load and one store. Both put group g's
+// (pixels g·P … g·P + P − 1, P = 8 / Channels) sources and destinations into lanes as
+// gatherLanes arranges them, and store its results; the lanes are the same either way.
+template <int Channels, bool Half>
+struct ScatteredTexelLanes {
+  static constexpr int P = 8 / Channels;
+  const glm::vec4* const* sources;
+  uint8_t* const* texels;
+  ScatteredTexelLanes from(int i) const { return {sources + i, texels + i}; }  // pixels [i, …)
+  [[gnu::always_inline]] inline void loadSources(int i, v8f& values, v8f& alphas) const {
+    v4f s[P];
+    for (int p = 0; p < P; ++p) s[p] = load4(*sources[i + p]);
+    gatherLanes<Channels>(s, values, alphas);
+  }
+  [[gnu::always_inline]] inline void loadDestinations(int i, v8f& values, v8f& alphas) const {
+    v4f d[P];
+    for (int p = 0; p < P; ++p)
+      d[p] = Half ? loadHalfTexel<Channels>(texels[i + p]) : loadFloatTexel<Channels>(texels[i + p]);
+    gatherLanes<Channels>(d, values, alphas);
+  }
+  [[gnu::always_inline]] inline void store(int i, v8f r, Rounding fp16) const {
+    constexpr size_t bytes = (Half ? 2 : 4) * Channels;
+    alignas(32) uint8_t out[8 * (Half ? 2 : 4)];
+    encodeLanes<Half>(r, fp16, out);
+    for (int p = 0; p < P; ++p) std::memcpy(texels[i + p], out + p * bytes, bytes);
+  }
+};
+template <int Channels, bool Half>
+struct RunTexelLanes {
+  static constexpr int P = 8 / Channels;
+  static constexpr size_t kTexelBytes = (Half ? 2 : 4) * Channels;
+  const glm::vec4* sources;
+  uint8_t* texels;
+  RunTexelLanes from(int i) const { return {sources + i, texels + size_t(i) * kTexelBytes}; }
+  [[gnu::always_inline]] inline void loadSources(int i, v8f& values, v8f& alphas) const {
+    if constexpr (Channels == 4) {  // two pixels' vec4s are the lanes already
+      std::memcpy(&values, sources + i, sizeof values);
+      alphas = __builtin_shufflevector(values, values, 3, 3, 3, 3, 7, 7, 7, 7);
+    } else {
+      v4f s[P];
+      for (int p = 0; p < P; ++p) s[p] = load4(sources[i + p]);
+      gatherLanes<Channels>(s, values, alphas);
+    }
+  }
+  [[gnu::always_inline]] inline void loadDestinations(int i, v8f& values, v8f& alphas) const {
+    const uint8_t* t = texels + size_t(i) * kTexelBytes;
+    if constexpr (Half) {
+#if defined(OITREF_HAVE_F16C)
+      values = (v8f)_mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(t)));
+#else
+      float f[8];
+      decodeHalvesInline(t, 8, f);
+      std::memcpy(&values, f, sizeof values);
+#endif
+    } else {
+      std::memcpy(&values, t, sizeof values);
+    }
+    // Each lane's pixel's alpha: lane 3 of a four-channel texel, else the 1 of a target without alpha.
+    if constexpr (Channels == 4) alphas = __builtin_shufflevector(values, values, 3, 3, 3, 3, 7, 7, 7, 7);
+    else alphas = splatLanes<v8f>(1.0f);
+  }
+  [[gnu::always_inline]] inline void store(int i, v8f r, Rounding fp16) const {
+    encodeLanes<Half>(r, fp16, texels + size_t(i) * kTexelBytes);
+  }
+};
+
 }  // namespace oitref::detail

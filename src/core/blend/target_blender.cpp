@@ -162,6 +162,26 @@ void maxInCodes(UnormRounding rounding, const Pixels& pixels, int n) {
   }
 }
 
+// A float target of one or two channels (no alpha), 8 / Channels pixels at a time in eight
+// lanes (blendChannelLanes), where the two-pixel loop of fastPixels fills only two or four of
+// them: pixels [0, returned) blended, the rest left to the caller.
+template <int Channels, bool Half, typename Pixels>
+[[gnu::always_inline]] inline int blendChannelGroups(const CompiledBlend& cb, v4f constant, const Pixels& pixels, int n,
+                                                      Rounding fp16) {
+  using Lanes = std::conditional_t<std::is_same_v<Pixels, PixelPointers>, ScatteredTexelLanes<Channels, Half>,
+                                   RunTexelLanes<Channels, Half>>;
+  const Lanes lanes{pixels.sources, pixels.texels};
+  constexpr int P = 8 / Channels;
+  int i = 0;
+  for (; i + P <= n; i += P) {
+    v8f s, sa, d, da;
+    lanes.loadSources(i, s, sa);
+    lanes.loadDestinations(i, d, da);
+    lanes.store(i, blendChannelLanes<Channels>(cb, s, sa, d, constant), fp16);
+  }
+  return i;
+}
+
 }  // namespace
 
 template <int State>
@@ -517,6 +537,10 @@ void TargetBlender::fastPixels(const TargetBlender& b, const Pixels& pixels, int
     return;
   }
   int i = 0;
+  constexpr bool kFloat = std::is_same_v<Texels, Float32Texels> || std::is_same_v<Texels, HalfTexels>;
+  if constexpr (kFloat && Channels < 4)
+    i = blendChannelGroups<Channels, std::is_same_v<Texels, HalfTexels>>(compiledBlend<State>(b), load4(b.constant_), pixels, n,
+                                                                        b.profile_.fp16);
   {
     const v8f constant = twoPixels(load4(b.constant_), load4(b.constant_));
     for (; i + 2 <= n; i += 2) {
