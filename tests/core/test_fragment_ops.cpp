@@ -602,6 +602,60 @@ TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after 
   CHECK(wrongDrawId.load() == 0);
 }
 
+// Framebuffer::clearColor and clearDepth: a draw's clears, applied tile by tile where the tiles
+// cover the framebuffer (the tile loop), everywhere first under a smaller viewport, and before a
+// full-screen pass. The oracle is Image::clear and DepthBuffer::clear (whole-buffer fills) before
+// the same draw. Each attachment starts from other bits, so a texel the draw's clear missed keeps
+// them and shows; a draw of no triangles must still clear everything.
+TEST_CASE("fragment ops: a draw's clears give the bits of clearing first, then drawing", "[fragment]") {
+  const Geometry g = overlappingTriangles(30, 7);
+  const FragmentProgram program = programOf([](const FragmentInput& in, FragmentOutput& o) {
+    o.write(0, colorOf(in.primitiveId));
+    o.write(1, colorOf(in.primitiveId + 5));
+  });
+  const glm::vec4 clear0{0.25f, 0.5f, 1.0f / 3.0f, 0.75f}, clear1{0.1f, -2.0f, 3.5f, 1.0f};
+  PipelineState st;
+  st.blend[0] = st.blend[1] = kOver;
+  st.depth = {true, CompareFunc::Less, true, false};
+  for (int mode = 0; mode < 4; ++mode) {  // triangles, no triangles, triangles in a viewport, full-screen
+    std::vector<uint8_t> bytes[2];
+    for (int byDraw = 0; byDraw < 2; ++byDraw) {
+      Renderer r(RendererOptions{3, 8});
+      Image a(makeFormat(FormatId::RGBA8), W, H), b(makeFormat(FormatId::RGBA16F), W, H);
+      DepthBuffer depth(DepthFormat::D24, W, H);
+      a.clear({0.9f, 0.8f, 0.7f, 0.6f}, exactProfile());
+      b.clear({5, 6, 7, 8}, exactProfile());
+      depth.clear(0.5);
+      Framebuffer fb;
+      fb.color[0] = &a, fb.color[1] = &b, fb.depth = &depth;
+      if (byDraw) {
+        fb.clearColor[0] = clear0, fb.clearColor[1] = clear1, fb.clearDepth = 1.0;
+      } else {
+        a.clear(clear0, st.profile), b.clear(clear1, st.profile), depth.clear(1.0);
+      }
+      PipelineState s = st;
+      if (mode == 2) s.viewport = {3, 2, 13, 11};
+      if (mode == 3) r.drawFullscreen(fb, s, program);
+      else r.drawSequence(fb, s, mode == 1 ? std::vector<Renderer::DrawCall>{} : std::vector<Renderer::DrawCall>{{&g, program, 0}});
+      CHECK_FALSE(fb.clearColor[0].has_value());  // taken by the draw
+      CHECK_FALSE(fb.clearDepth.has_value());
+      bytes[byDraw] = attachmentBytes(a, depth);
+      bytes[byDraw].insert(bytes[byDraw].end(), b.bytes().begin(), b.bytes().end());
+    }
+    INFO("mode " << mode);
+    CHECK(bytes[0] == bytes[1]);
+  }
+  Renderer r(RendererOptions{1, 8});
+  Image a(makeFormat(FormatId::RGBA8), W, H);
+  Framebuffer fb;
+  fb.color[0] = &a;
+  fb.clearColor[1] = clear1;  // no attachment 1
+  CHECK_THROWS_WITH(r.drawSequence(fb, st, {}), Catch::Contains("colour target 1"));
+  fb.clearColor[1].reset();
+  fb.clearDepth = 1.0;
+  CHECK_THROWS_WITH(r.drawSequence(fb, st, {}), Catch::Contains("depth clear"));
+}
+
 TEST_CASE("fragment ops: a shader's declared depth test discards unshaded, with the shader's bits and counts", "[fragment]") {
   // FragmentProgram::discardTest declares a test the shader applies itself (depth peeling's
   // "behind the previous layer"). The oracle is the same program without the declaration: the

@@ -67,6 +67,9 @@ class DepthBuffer {
   }
   double depth(int x, int y) const { return decodeDepth(load(x, y), format_); }
   void clear(double z);
+  // The pixels [x0, x1) × [y0, y1) get the stored value `v` (encodeDepth's): a draw's clear, one
+  // tile at a time (Framebuffer::clearDepth).
+  void clearRect(int x0, int y0, int x1, int y1, uint32_t v);
   int bytesPerTexel() const { return format_ == DepthFormat::D16 ? 2 : 4; }
   size_t sizeBytes() const { return size_t(width_) * height_ * bytesPerTexel(); }
   bool allocated() const { return !d16_.empty() || !words_.empty(); }  // false once moved from

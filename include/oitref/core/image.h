@@ -83,6 +83,9 @@ class Image {
   void storeRow(int y, const int* xs, int n, const glm::vec4* values, const Profile& profile);
   // glClearBuffer: every texel gets the converted clear value.
   void clear(const glm::vec4& value, const Profile& profile);
+  // The texels [x0, x1) × [y0, y1) get `texel`, a texel of this image's format (encodeTexel's bytes):
+  // a draw's clear, one tile at a time (Framebuffer::clearColor).
+  void clearRect(int x0, int y0, int x1, int y1, const uint8_t* texel);
 
   // Every texel's bits from `source`, which has this image's format and size (glCopyImageSubData).
   void copyTexels(const Image& source);

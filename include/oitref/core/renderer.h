@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "oitref/core/depth.h"
@@ -31,6 +32,15 @@ namespace oitref {
 struct Framebuffer {
   std::array<Image*, kMaxColorTargets> color{};
   DepthBuffer* depth = nullptr;
+  // Clears that the next draw (Renderer::draw, drawSequence, drawFullscreen) applies before its
+  // first fragment, with its state's profile: glClearBuffer, then the draw. The same bits as
+  // Image::clear and DepthBuffer::clear before the draw, but drawSequence clears a tile at a
+  // time, as the worker that draws the tile begins it (llvmpipe bins a clear into each tile's
+  // commands the same way), so that the tile's texels are in cache when its fragments blend
+  // into them, and the threads share the clearing. The draw consumes them: a later draw with
+  // this Framebuffer clears nothing.
+  std::array<std::optional<glm::vec4>, kMaxColorTargets> clearColor{};
+  std::optional<double> clearDepth;
 
   int width() const;
   int height() const;

@@ -53,6 +53,17 @@ void Image::clear(const glm::vec4& value, const Profile& profile) {
     std::memcpy(bytes_.data() + filled, bytes_.data(), std::min(filled, bytes_.size() - filled));
 }
 
+void Image::clearRect(int x0, int y0, int x1, int y1, const uint8_t* texel) {
+  if (x0 >= x1 || y0 >= y1) return;
+  const size_t rowBytes = size_t(x1 - x0) * texelBytes_;
+  for (int y = y0; y < y1; ++y) {
+    uint8_t* row = this->texel(x0, y);
+    std::memcpy(row, texel, texelBytes_);
+    for (size_t filled = texelBytes_; filled < rowBytes; filled *= 2)  // by doubling, as clear()
+      std::memcpy(row + filled, row, std::min(filled, rowBytes - filled));
+  }
+}
+
 void Image::copyTexels(const Image& source) {
   if (!(format_ == source.format_) || width_ != source.width_ || height_ != source.height_)
     throw std::logic_error("Image::copyTexels: the images differ in format or size");

@@ -53,6 +53,14 @@ DepthBuffer::DepthBuffer(DepthFormat format, int width, int height)
   clear(1.0);
 }
 
+void DepthBuffer::clearRect(int x0, int y0, int x1, int y1, uint32_t v) {
+  for (int y = y0; y < y1 && x0 < x1; ++y) {
+    const size_t i = size_t(y) * width_ + size_t(x0), n = size_t(x1 - x0);
+    if (format_ == DepthFormat::D16) std::fill_n(d16_.begin() + std::ptrdiff_t(i), n, uint16_t(v));
+    else std::fill_n(words_.begin() + std::ptrdiff_t(i), n, v);
+  }
+}
+
 void DepthBuffer::clear(double z) {
   const uint32_t v = encodeDepth(z, format_);
   std::fill(d16_.begin(), d16_.end(), uint16_t(v));

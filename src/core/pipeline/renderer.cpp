@@ -80,6 +80,42 @@ void addCounters(DrawStats& s, const detail::FragmentCounters& c) {
   s.fragmentsWritten += c.written;
 }
 
+// A Framebuffer's clears (Framebuffer::clearColor, clearDepth), converted once for the draw that
+// takes them from it.
+struct PendingClears {
+  std::array<std::array<uint8_t, 16>, kMaxColorTargets> texels{};
+  unsigned colors = 0;  // bit t: color[t] is cleared
+  bool depth = false;
+  uint32_t depthValue = 0;
+
+  bool any() const { return colors != 0 || depth; }
+  void apply(Framebuffer& fb, const detail::PixelRect& r) const {
+    for (unsigned t = colors; t; t &= t - 1)
+      fb.color[size_t(__builtin_ctz(t))]->clearRect(r.x0, r.y0, r.x1, r.y1, texels[size_t(__builtin_ctz(t))].data());
+    if (depth) fb.depth->clearRect(r.x0, r.y0, r.x1, r.y1, depthValue);
+  }
+  void applyEverywhere(Framebuffer& fb) const { apply(fb, {0, 0, fb.width(), fb.height()}); }
+};
+
+PendingClears takeClears(Framebuffer& fb, const Profile& profile) {
+  PendingClears c;
+  const DefaultFloatingPoint fp;  // the conversion's rounding, as Image::clear
+  for (size_t t = 0; t < kMaxColorTargets; ++t) {
+    if (!fb.clearColor[t]) continue;
+    if (!fb.color[t]) throw std::invalid_argument("Framebuffer: a clear of colour target " + std::to_string(t) + ", which has no attachment");
+    encodeTexel(fb.color[t]->format(), *fb.clearColor[t], profile, c.texels[t].data());
+    c.colors |= 1u << t;
+    fb.clearColor[t].reset();
+  }
+  if (fb.clearDepth) {
+    if (!fb.depth) throw std::invalid_argument("Framebuffer: a depth clear without a depth attachment");
+    c.depth = true;
+    c.depthValue = encodeDepth(*fb.clearDepth, fb.depth->format());
+    fb.clearDepth.reset();
+  }
+  return c;
+}
+
 detail::SetupContext makeContext(const Framebuffer& fb, const PipelineState& state) {
   const RasterState& r = state.raster;
   if (r.subpixelBits < 1 || r.subpixelBits > 8)
@@ -222,6 +258,11 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
   const detail::SetupContext context = makeContext(fb, state);
   const TileShape tiles = tileShapeFor(context.vw, context.vh);
   const detail::TileGrid grid(tiles.width, tiles.height, context.vx, context.vy, context.vw, context.vh);
+  // The clears go tile by tile where the tiles cover the framebuffer; a smaller viewport's draw
+  // clears everything first.
+  const PendingClears clears = takeClears(fb, state.profile);
+  const bool clearTiles = clears.any() && context.vx == 0 && context.vy == 0 && context.vw == fb.width() && context.vh == fb.height();
+  if (clears.any() && !clearTiles) clears.applyEverywhere(fb);
   DrawStats stats;
   auto t0 = std::chrono::steady_clock::now();
   std::vector<detail::BinnedTriangles>& bins = arena_->bins;
@@ -251,6 +292,7 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
   arena_->execute([&] {
     workerParallelFor(size_t(grid.count()), [&](size_t tile) {
+      if (clearTiles) clears.apply(fb, grid.tileRect(int(tile)));
       std::optional<detail::FragmentStage> stage;  // made for the tile's first draw, kept for the rest
       for (size_t d = 0; d < draws.size(); ++d) {
         const detail::BinnedTriangles& b = bins[d];
@@ -275,6 +317,7 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
 DrawStats Renderer::drawFullscreen(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program) {
   fb.validate();
   const detail::SetupContext context = makeContext(fb, state);
+  takeClears(fb, state.profile).applyEverywhere(fb);
   // Every pixel is one fragment that sees only its own pixel, so the order is free: bands of
   // whole rows, which read and write the attachments as sequential streams the hardware
   // prefetches (a tile's rows lie a page apart).

@@ -99,8 +99,7 @@ class Mboit final : public OpaqueFirstMethod {
     b0Image.clear(glm::vec4(0.0f), profile);
     for (Image* m : momentImages)
       if (m) m->clear(glm::vec4(0.0f), profile);
-    accum.clear(glm::vec4(0.0f), profile);
-    reveal.clear(glm::vec4(1.0f), profile);
+    // accum and reveal: cleared by their pass (accumulateWeightedBatch).
     const Camera& cam = context.scene.camera;
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
     const bool logWarp = logWarp_;

@@ -7,6 +7,8 @@ Framebuffer weightedAccumulationTargets(FrameTargets& targets, Image& accum, Ima
   fb.color[0] = &accum;
   fb.color[1] = &reveal;
   fb.depth = &targets.depth();
+  fb.clearColor[0] = glm::vec4(0.0f);  // the pass clears them first (tile by tile: Framebuffer::clearColor)
+  fb.clearColor[1] = glm::vec4(1.0f);
   return fb;
 }
 

@@ -97,6 +97,7 @@ inline glm::vec4 plusScaledOpaque(const glm::vec4& a, const glm::vec4& b, float 
 }
 
 // The accumulation pass of McGuire–Bavoil eq. 6 (listing 3), which WBOIT, MBOIT and MT share:
+// accum cleared to 0 and reveal to 1 (by the pass: Framebuffer::clearColor), then
 // accum += (c·α·w, α·w) blended ONE, ONE and reveal *= (1 − α) blended ZERO,
 // ONE_MINUS_SRC_COLOR, against the opaque depth; weights(const FragmentBatch& in,
 // const glm::vec4* colors, float* w) sets each fragment's w of a batch at once; `readsViewDepth`:

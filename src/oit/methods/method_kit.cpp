@@ -115,14 +115,13 @@ void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
   const auto t0 = std::chrono::steady_clock::now();
   Image& opaque = targets.opaque();
   const glm::vec4 background(context_.scene.background, 1.0f);
-  opaque.clear(background, context_.profile);
-  targets.analysis().clear(background, context_.profile);
-  DepthBuffer& depth = targets.depth();
-  depth.clear(1.0);
   Framebuffer fb;
   fb.color[0] = &opaque;
   fb.color[1] = &targets.analysis();
-  fb.depth = &depth;
+  fb.depth = &targets.depth();
+  // Cleared by the draw, tile by tile (Framebuffer::clearColor).
+  fb.clearColor[0] = fb.clearColor[1] = background;
+  fb.clearDepth = 1.0;
   PipelineState st;
   st.profile = context_.profile;
   st.depth = {true, CompareFunc::Less, true, false};

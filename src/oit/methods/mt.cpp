@@ -37,8 +37,7 @@ class Mt final : public OpaqueFirstMethod {
     Image& reveal = t[reveal_];
     opticalDepth.clear(glm::vec4(0.0f), profile);
     moments.clear(glm::vec4(0.0f), profile);
-    accum.clear(glm::vec4(0.0f), profile);
-    reveal.clear(glm::vec4(1.0f), profile);
+    // accum and reveal: cleared by their pass (accumulateWeightedBatch).
     const Camera& cam = context.scene.camera;
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
     // The fragments' depths in [0, 1]: ln(view depth / near) / ln(far / near), a batch's

@@ -110,9 +110,8 @@ class Wboit final : public OpaqueFirstMethod {
     Image& accum = t[accum_];
     Image& reveal = t[reveal_];
     const DepthBuffer& depth = t.depth();
-    reveal.clear(glm::vec4(1.0f), context.profile);                  // step 5
-    accum.clear(glm::vec4(0.0f), context.profile);                   // step 6
-    // Steps 4, 7–12: accum += (c·α·w, α·w) (S_accum, eq. 2.6), reveal *= (1 − α).
+    // Steps 5–6 (reveal cleared to 1, accum to 0: by the pass, tile by tile), then steps 4,
+    // 7–12: accum += (c·α·w, α·w) (S_accum, eq. 2.6), reveal *= (1 − α).
     const Weight kind = weight_;
     const bool adaptive = adaptive_;
     accumulateWeightedBatch(run, t, accum, reveal, [&](const FragmentBatch& in, const glm::vec4* c, float* w) {

@@ -22,9 +22,9 @@ class Wsum final : public Method {
     run.opaquePass(t);                                    // steps 1–3
     Image& opaque = t.opaque();
     Image& accum = t[accum_];
-    accum.clear(glm::vec4(0.0f), context.profile);        // step 4
     Framebuffer fb;                                       // step 5: D2 ← D1 (the same depth)
     fb.color[0] = &accum;
+    fb.clearColor[0] = glm::vec4(0.0f);                   // step 4, by the pass (tile by tile)
     fb.depth = &t.depth();
     const PipelineState st = transparentState(context.profile, additiveBlend());  // steps 6–8
     const bool mayDiscard = false, pure = false, readsDepth = false;  // step 9 reads only the colour
