@@ -96,9 +96,11 @@ class Mboit final : public OpaqueFirstMethod {
     Image* momentImages[2] = {&t[moments_], set_.reals() > 4 ? &t[momentsMore_] : nullptr};
     Image& accum = t[accum_];
     Image& reveal = t[reveal_];
-    b0Image.clear(glm::vec4(0.0f), profile);
-    for (Image* m : momentImages)
-      if (m) m->clear(glm::vec4(0.0f), profile);
+    if (quantised_) {  // read and written by the shader; otherwise the moment pass's attachments, which it clears
+      b0Image.clear(glm::vec4(0.0f), profile);
+      for (Image* m : momentImages)
+        if (m) m->clear(glm::vec4(0.0f), profile);
+    }
     // accum and reveal: cleared by their pass (accumulateWeightedBatch).
     const Camera& cam = context.scene.camera;
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
@@ -155,6 +157,8 @@ class Mboit final : public OpaqueFirstMethod {
       momentFb.color[0] = &b0Image;
       momentFb.color[1] = momentImages[0];
       momentFb.color[2] = momentImages[1];
+      for (int k = 0; k < 3; ++k)  // cleared to 0 by the pass, tile by tile (Framebuffer::clearColor)
+        if (momentFb.color[size_t(k)]) momentFb.clearColor[size_t(k)] = glm::vec4(0.0f);
       // Blended ONE, ONE: writeMoments(in, i, A, out) writes fragment i's b0 and moments, or
       // nothing when it is nearly clear (A below 1e-7 adds nothing measurable).
       auto momentPass = [&](auto writeMoments) {

@@ -45,7 +45,7 @@ class Peel final : public OpaqueFirstMethod {
     bool exhausted = false;
     for (int pass = 0; pass < passes_; ++pass) {                    // step 4
       layerDepth = t.depth();                                       // step 5: D2 ← D1
-      layer.clear(glm::vec4(0.0f), context.profile);                // step 6
+      layerFb.clearColor[0] = glm::vec4(0.0f);                      // step 6, by the draw (tile by tile)
       const DepthFormat format = peeledDepth.format();
       // The fragment is kept where it lies strictly behind the previous layer: the shader's own
       // depth test, declared so that the pipeline can skip shading what it discards.
