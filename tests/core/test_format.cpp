@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "oitref/core/format.h"
 #include "oitref/core/image.h"
@@ -134,16 +135,23 @@ TEST_CASE("format: every UNORM16 code decodes to k/65535 and encodes back to its
 }
 
 TEST_CASE("Image::fetch gives decodeTexel's bits for every 8-bit code in each UNORM8 layout", "[format]") {
-  // fetch reads r8, rg8 and rgba8 inline through the decode table; decodeTexel is the oracle.
+  // fetch reads r8, rg8 and rgba8 inline through the decode table, and fetchRun and fetchRow
+  // (rgba8: by a division in vector lanes where built with SSE4.1); decodeTexel is the oracle.
   for (const char* name : {"r8", "rg8", "rgba8"}) {
     const Format f = parseFormat(name);
     Image image(f, 256, 1);
     for (int k = 0; k < 256; ++k)
       for (int c = 0; c < f.channels; ++c) image.texel(k, 0)[c] = uint8_t(k * (2 * c + 1) + 17 * c);
+    std::vector<glm::vec4> run(256), row(256);
+    std::vector<int> xs(256);
+    for (int k = 0; k < 256; ++k) xs[size_t(k)] = 255 - k;
+    image.fetchRun(0, 0, 256, run.data());
+    image.fetchRow(0, xs.data(), 256, row.data());
     for (int k = 0; k < 256; ++k) {
-      const glm::vec4 got = image.fetch(k, 0), want = decodeTexel(f, image.texel(k, 0));
+      const glm::vec4 want = decodeTexel(f, image.texel(k, 0));
+      const glm::vec4 got[3] = {image.fetch(k, 0), run[size_t(k)], row[size_t(255 - k)]};
       INFO(name << " texel " << k);
-      CHECK(std::memcmp(&got, &want, sizeof got) == 0);
+      for (const glm::vec4& g : got) CHECK(std::memcmp(&g, &want, sizeof g) == 0);
     }
   }
 }

@@ -117,7 +117,13 @@ typedef double v4d __attribute__((vector_size(32)));
 // and the truncating conversion, the same integer.
 inline v4i encodeUnorm4(v4f v, int bits, UnormRounding rounding) {
   const uint32_t maxCode = (uint32_t(1) << bits) - 1;
+#if defined(__SSE2__)
+  // clampUnit4 in two instructions: MAXPS gives its second operand, +0, where v is NaN or ±0,
+  // and MINPS its first where it is below 1 — the same lanes as the comparisons and selects.
+  v = (v4f)_mm_min_ps(_mm_max_ps((__m128)v, _mm_setzero_ps()), _mm_set1_ps(1.0f));
+#else
   v = clampUnit4(v);
+#endif
   if (rounding == UnormRounding::NvidiaFixed) {  // bits ≤ 12 (X·maxCode < 2^31): the 8-bit kernels
     const int fraction = bits + 4;
     const v4i x = __builtin_convertvector(v * float(1 << fraction), v4i);  // exact scaling, then floor (v ≥ 0)
@@ -132,10 +138,12 @@ inline v4i encodeUnorm4(v4f v, int bits, UnormRounding rounding) {
     return __builtin_convertvector((p + twoPow23) - twoPow23, v4i);
 #endif
   }
-  const v4d p = __builtin_convertvector(v, v4d) * double(maxCode);
 #if defined(__AVX__)
-  return (v4i)_mm256_cvtpd_epi32((__m256d)p);
+  // One VCVTPS2PD of all four lanes (GCC splits __builtin_convertvector into two halves).
+  const __m256d p = _mm256_mul_pd(_mm256_cvtps_pd((__m128)v), _mm256_set1_pd(double(maxCode)));
+  return (v4i)_mm256_cvtpd_epi32(p);
 #else
+  const v4d p = __builtin_convertvector(v, v4d) * double(maxCode);
   const v4d twoPow52 = v4d{4503599627370496.0, 4503599627370496.0, 4503599627370496.0, 4503599627370496.0};
   return __builtin_convertvector((p + twoPow52) - twoPow52, v4i);
 #endif

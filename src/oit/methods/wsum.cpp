@@ -47,9 +47,10 @@ class Wsum final : public Method {
       const glm::vec4* c0 = texelsOf(analysis, in, c0Scratch);
       for (int i = 0; i < in.count; ++i) {
         const float background = 1.0f - sum[i].a;
-        o.write(i, 0, plusScaledOpaque(sum[i], c1[i], background));  // (C2.rgb + C1.rgb·(1 − C2.a), 1)
-        o.write(i, 1, plusScaledOpaque(sum[i], c0[i], background));
+        o.writeColor(i, 0, plusScaledOpaque(sum[i], c1[i], background));  // (C2.rgb + C1.rgb·(1 − C2.a), 1)
+        o.writeColor(i, 1, plusScaledOpaque(sum[i], c0[i], background));
       }
+      o.markWritten(in.count, 0b11u);
     }));
     t.finish(result, final_);
     return result;
