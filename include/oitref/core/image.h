@@ -10,12 +10,10 @@
 #include <vector>
 
 #include <glm/vec4.hpp>
-#if defined(__SSE4_1__)
-#include <smmintrin.h>  // fetchColumns' RGBA8 decode
-#endif
 
 #include "oitref/core/format.h"
 #include "oitref/core/profile.h"
+#include "oitref/core/unorm.h"
 
 namespace oitref {
 
@@ -106,7 +104,6 @@ class Image {
       else
         for (int i = 0; i < n; ++i) out[i] = decode(row + size_t(i) * texelBytes_);
     };
-    [[maybe_unused]] const float* u = unorm8_;
     switch (inlineLayout_) {
       case InlineLayout::Float32x4:
         if (!xs) return std::memcpy(out, row, size_t(n) * 16), void();
@@ -116,20 +113,11 @@ class Image {
       case InlineLayout::Float32x1:
         return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 4); return v; });
       case InlineLayout::Unorm8x4:
-#if defined(__SSE4_1__)
-        // k/255 by one division of four lanes: IEEE division rounds correctly, as the table's
-        // values are (test_format compares every code); four table loads and inserts cost more.
         return each([](const uint8_t* t) {
-          int32_t word;
-          std::memcpy(&word, t, 4);
-          const __m128 v = _mm_div_ps(_mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(word))), _mm_set1_ps(255.0f));
-          glm::vec4 r;
-          std::memcpy(&r, &v, 16);
-          return r;
+          glm::vec4 v;
+          decodeUnorm8x4(t, &v.x);
+          return v;
         });
-#else
-        return each([u](const uint8_t* t) { return glm::vec4(u[t[0]], u[t[1]], u[t[2]], u[t[3]]); });
-#endif
       default: rowDecoder_(format_, row, texelBytes_, xs, n, out);
     }
   }

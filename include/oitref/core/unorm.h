@@ -17,6 +17,10 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#if defined(__SSE4_1__)
+#include <smmintrin.h>
+#endif
 
 #include "oitref/core/lanes.h"
 
@@ -59,6 +63,20 @@ inline uint32_t encodeUnorm(float value, int bits, UnormRounding rounding = Unor
 
 inline float decodeUnorm(uint32_t code, int bits) {
   return float(code) / float((uint32_t(1) << bits) - 1);  // one correctly rounded division
+}
+
+// decodeUnorm(k, 8) of the four codes of an RGBA8 texel: where built with SSE4.1, the four
+// divisions in one instruction (the same IEEE division, lane by lane), which costs less than four
+// loads from a table of the 256 values and putting them together.
+inline void decodeUnorm8x4(const uint8_t* texel, float out[4]) {
+#if defined(__SSE4_1__)
+  int32_t word;
+  std::memcpy(&word, texel, 4);
+  const __m128 v = _mm_div_ps(_mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(word))), _mm_set1_ps(255.0f));
+  _mm_storeu_ps(out, v);
+#else
+  for (int c = 0; c < 4; ++c) out[c] = decodeUnorm(texel[c], 8);
+#endif
 }
 
 }  // namespace oitref

@@ -36,7 +36,9 @@ struct Unorm8Texels {
   template <int Channels>
   static v4f load(const uint8_t* texel) {
     float d[4] = {0.0f, 0.0f, 0.0f, 1.0f};
-    for (int c = 0; c < Channels; ++c) d[c] = kUnorm8Decode[texel[c]];
+    if constexpr (Channels == 4) decodeUnorm8x4(texel, d);
+    else
+      for (int c = 0; c < Channels; ++c) d[c] = kUnorm8Decode[texel[c]];
     return v4f{d[0], d[1], d[2], d[3]};
   }
   template <int Channels>
