@@ -78,12 +78,13 @@ template <bool Half>
   }
 }
 
-// Where the pixels of a batch are, for the eight-lane kernels (blend_llvmpipe_float.cpp, and the
-// fewer-channel targets of target_blender.cpp). ScatteredTexelLanes: a pointer per pixel to its source and its
-// texel (any pixels). RunTexelLanes: consecutive texels with the sources side by side (a span whose
-// every fragment blends): a group's texels are one load and one store. Both put group g's
-// (pixels g·P … g·P + P − 1, P = 8 / Channels) sources and destinations into lanes as
-// gatherLanes arranges them, and store its results; the lanes are the same either way.
+// Where the pixels of a batch are, for the eight-lane kernels (blend_llvmpipe_float.cpp, and
+// target_blender.cpp's for targets of one or two channels). ScatteredTexelLanes: a pointer per
+// pixel to its source and its texel (any pixels). RunTexelLanes: consecutive texels with the
+// sources side by side (a span whose every fragment blends): a group's texels are one load and
+// one store. Both put group g's (pixels g·P … g·P + P − 1, P = 8 / Channels) sources and
+// destinations into lanes as gatherLanes arranges them, and store its results; the lanes are the
+// same either way.
 template <int Channels, bool Half>
 struct ScatteredTexelLanes {
   static constexpr int P = 8 / Channels;
