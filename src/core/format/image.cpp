@@ -45,23 +45,27 @@ void Image::storeRow(int y, const int* xs, int n, const glm::vec4* values, const
   for (int i = 0; i < n; ++i) encodeTexel(format_, values[i], profile, row + size_t(xs[i]) * texelBytes_);
 }
 
+namespace {
+
+// `bytes` bytes at `out` (a whole number of texels) filled with the texel at `texel`, by
+// doubling: the filled prefix copied onto the rest, in ever larger blocks.
+void fillWithTexel(uint8_t* out, size_t bytes, const uint8_t* texel, size_t texelBytes) {
+  std::memcpy(out, texel, texelBytes);
+  for (size_t filled = texelBytes; filled < bytes; filled *= 2) std::memcpy(out + filled, out, std::min(filled, bytes - filled));
+}
+
+}  // namespace
+
 void Image::clear(const glm::vec4& value, const Profile& profile) {
   const DefaultFloatingPoint fp;
-  encodeTexel(format_, value, profile, bytes_.data());
-  // Fill by doubling: copy the filled prefix onto the rest, in ever larger blocks.
-  for (size_t filled = texelBytes_; filled < bytes_.size(); filled *= 2)
-    std::memcpy(bytes_.data() + filled, bytes_.data(), std::min(filled, bytes_.size() - filled));
+  uint8_t texel[16];
+  encodeTexel(format_, value, profile, texel);
+  if (!bytes_.empty()) fillWithTexel(bytes_.data(), bytes_.size(), texel, texelBytes_);
 }
 
 void Image::clearRect(int x0, int y0, int x1, int y1, const uint8_t* texel) {
-  if (x0 >= x1 || y0 >= y1) return;
-  const size_t rowBytes = size_t(x1 - x0) * texelBytes_;
-  for (int y = y0; y < y1; ++y) {
-    uint8_t* row = this->texel(x0, y);
-    std::memcpy(row, texel, texelBytes_);
-    for (size_t filled = texelBytes_; filled < rowBytes; filled *= 2)  // by doubling, as clear()
-      std::memcpy(row + filled, row, std::min(filled, rowBytes - filled));
-  }
+  if (x0 >= x1) return;
+  for (int y = y0; y < y1; ++y) fillWithTexel(this->texel(x0, y), size_t(x1 - x0) * texelBytes_, texel, texelBytes_);
 }
 
 void Image::copyTexels(const Image& source) {
