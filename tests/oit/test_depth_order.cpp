@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "methods/depth_order.h"
+#include "methods/depth_order_registers.h"
 #include "support.h"
 
 using namespace oitref;
@@ -108,4 +109,66 @@ TEST_CASE("depth order: two lists side by side give each list's own order", "[me
           ++pairs;
         }
   CHECK(pairs == 6 * 6 * 5 * 5);
+}
+
+namespace {
+
+// The most fragments before each one that belong after it (by view depth, then list position).
+uint32_t largestDisplacement(const std::vector<TransparentFragment>& list) {
+  uint32_t most = 0;
+  for (size_t i = 0; i < list.size(); ++i) {
+    uint32_t larger = 0;
+    for (size_t j = 0; j < i; ++j) larger += list[j].viewDepth > list[i].viewDepth;
+    most = std::max(most, larger);
+  }
+  return most;
+}
+
+}  // namespace
+
+TEST_CASE("depth order: the AVX-512 window sorts every list within its reach and says when it did not", "[methods]") {
+  if (!methods::registerOrderAvailable()) {
+    WARN("this CPU has no AVX-512F: the window is not run (DepthOrder inserts)");
+    return;
+  }
+  // Distinct view depths (ties are DepthOrder's to order afterwards), so that the expected order is
+  // the stable one; lists displaced by up to 60 places, some within the window's reach (no
+  // fragment with more than 32 larger ones before it) and some not.
+  test::BitStream rng(14);
+  int within = 0, refused = 0;
+  for (uint32_t n : {1u, 2u, 8u, 9u, 31u, 32u, 33u, 63u, 64u, 65u, 100u, 300u})
+    for (int displacement : {1, 7, 16, 24, 31, 40, 60, -1}) {
+      std::vector<TransparentFragment> list = makeList(rng, n, 1000000, displacement);
+      for (uint32_t i = 0; i < n; ++i) list[i].viewDepth += float(i) * 0x1p-4f;  // distinct
+      std::vector<uint32_t> got(n);
+      bool tie = true;
+      const bool sorted = methods::orderInRegisters(list.data(), n, got.data(), tie);
+      const uint32_t reach = largestDisplacement(list);
+      INFO("n " << n << ", displacement " << displacement << ", largest displacement " << reach);
+      if (reach <= 32) REQUIRE(sorted);
+      if (sorted) {
+        REQUIRE(got == stableOrder(list));
+        REQUIRE_FALSE(tie);
+      }
+      within += reach <= 32, refused += !sorted;
+    }
+  CHECK(within > 40);
+  CHECK(refused > 10);
+  // The smallest fragment after 64 larger ones: the window has emitted 32 of them by then.
+  std::vector<TransparentFragment> late(65);
+  for (uint32_t i = 0; i < 65; ++i) late[i].viewDepth = float(i + 1);
+  late[64].viewDepth = 0.0f;
+  std::vector<uint32_t> order(65);
+  bool tie = false;
+  CHECK_FALSE(methods::orderInRegisters(late.data(), 65, order.data(), tie));
+  // Equal view depths (−0 and +0 among them) are reported as a tie, in list order.
+  std::vector<TransparentFragment> ties(20);
+  for (uint32_t i = 0; i < 20; ++i) ties[i].viewDepth = i == 3 ? -0.0f : i == 11 ? 0.0f : float(20 - i);
+  REQUIRE(methods::orderInRegisters(ties.data(), 20, order.data(), tie));
+  CHECK(tie);
+  CHECK(order[0] == 3);
+  CHECK(order[1] == 11);
+  // NaN in either depth refuses the list.
+  ties[7].windowDepth = std::nanf("");
+  CHECK_FALSE(methods::orderInRegisters(ties.data(), 20, order.data(), tie));
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "methods/depth_order_registers.h"
+
 #if defined(__x86_64__)
 #include <immintrin.h>
 #endif
@@ -104,6 +106,18 @@ struct LaneInserter {
 
 }  // namespace
 
+// order (sorted by view depth, ties in list order) with each run of equal view depths (== : −0 and
+// +0 too) put in the order of their window depths, ties still in list order: the order of `before`.
+static void orderEqualViewRuns(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+  for (uint32_t a = 0; a + 1 < n;) {
+    uint32_t b = a + 1;
+    while (b < n && list[order[b]].viewDepth == list[order[a]].viewDepth) ++b;
+    if (b - a > 1)
+      std::stable_sort(order + a, order + b, [list](uint32_t x, uint32_t y) { return list[x].windowDepth < list[y].windowDepth; });
+    a = b;
+  }
+}
+
 void DepthOrder::orderFromKeys(uint32_t n, uint32_t* order, bool sorted) {
   if (!sorted)
     std::stable_sort(keys_.begin(), keys_.begin() + n, [](const Key& a, const Key& b) {
@@ -150,13 +164,7 @@ void DepthOrder::orderFromLaneKeys(int k, const TransparentFragment* list, uint3
     std::copy_n(keys.index.data() + 8, n, order);
     bool tie = false;  // in lanes, no branch per key: most lists have none
     for (uint32_t i = 1; i < n; ++i) tie |= view[i] == view[i - 1];
-    for (uint32_t a = 0; tie && a + 1 < n;) {
-      uint32_t b = a + 1;
-      while (b < n && view[b] == view[a]) ++b;
-      if (b - a > 1)
-        std::stable_sort(order + a, order + b, [list](uint32_t x, uint32_t y) { return list[x].windowDepth < list[y].windowDepth; });
-      a = b;
-    }
+    if (tie) orderEqualViewRuns(list, n, order);
     return;
   }
   // Not nearly sorted: std::stable_sort finishes from the partial order, which is stable (equal
@@ -169,6 +177,13 @@ void DepthOrder::orderFromLaneKeys(int k, const TransparentFragment* list, uint3
   orderFromKeys(n, order, false);
 }
 
+bool DepthOrder::sortInRegisters(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+  bool tie = false;
+  if (n < 2 || !orderInRegisters(list, n, order, tie)) return false;
+  if (tie) orderEqualViewRuns(list, n, order);
+  return true;
+}
+
 bool DepthOrder::lanesAvailable() {
 #if defined(__x86_64__)
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
@@ -179,6 +194,10 @@ bool DepthOrder::lanesAvailable() {
 }
 
 void DepthOrder::sort(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+  if (!sortInRegisters(list, n, order)) sortByInsertion(list, n, order);
+}
+
+void DepthOrder::sortByInsertion(const TransparentFragment* list, uint32_t n, uint32_t* order) {
 #if defined(__x86_64__)
   if (lanesAvailable() && n > 1) {
     if (!laneKeys(0, list, n)) return sortScalar(list, n, order);
@@ -191,6 +210,14 @@ void DepthOrder::sort(const TransparentFragment* list, uint32_t n, uint32_t* ord
 
 void DepthOrder::sortPair(const TransparentFragment* listA, uint32_t na, uint32_t* orderA, const TransparentFragment* listB,
                           uint32_t nb, uint32_t* orderB) {
+  // A list the merge sorts is done (it has parallel work of its own); two that it does not are
+  // inserted side by side.
+  const bool doneA = sortInRegisters(listA, na, orderA), doneB = sortInRegisters(listB, nb, orderB);
+  if (doneA || doneB) {
+    if (!doneA) sortByInsertion(listA, na, orderA);
+    if (!doneB) sortByInsertion(listB, nb, orderB);
+    return;
+  }
 #if defined(__x86_64__)
   if (lanesAvailable() && na > 1 && nb > 1 && laneKeys(0, listA, na) && laneKeys(1, listB, nb)) {
     LaneKeys &a = lanes_[0], &b = lanes_[1];
@@ -201,8 +228,8 @@ void DepthOrder::sortPair(const TransparentFragment* listA, uint32_t na, uint32_
     return;
   }
 #endif
-  sort(listA, na, orderA);
-  sort(listB, nb, orderB);
+  sortByInsertion(listA, na, orderA);
+  sortByInsertion(listB, nb, orderB);
 }
 
 }  // namespace oitref::methods

@@ -46,6 +46,11 @@ class DepthOrder {
     std::vector<float> view;
     std::vector<uint32_t> index;
   };
+  // The order by depth_order_registers.h, for a list of two or more fragments that its window
+  // sorts; false (order unspecified) otherwise.
+  bool sortInRegisters(const TransparentFragment* list, uint32_t n, uint32_t* order);
+  // sort() without the registers: insertion (in lanes with AVX2), then std::stable_sort.
+  void sortByInsertion(const TransparentFragment* list, uint32_t n, uint32_t* order);
   static bool lanesAvailable();
   bool laneKeys(int k, const TransparentFragment* list, uint32_t n);
   void orderFromLaneKeys(int k, const TransparentFragment* list, uint32_t n, uint32_t* order, bool sorted);
