@@ -10,8 +10,10 @@
 // places back costs no mispredicted branch (a scalar insertion mispredicts once per fragment
 // that moves); one that belongs further back takes the scalar step. The lanes compare view depths
 // alone and then order each run of equal view depths by window depth, which gives the same order.
-// Keys with NaN, and CPUs without AVX2, take the scalar way throughout. Every way gives the one
-// order.
+// Keys with NaN, and CPUs without AVX2, take the scalar way throughout. With AVX-512F a list goes
+// to the window of depth_order_registers.h first (a sorting network, no branch per key), and only
+// a list it does not sort (a fragment with more than 32 larger ones before it, roughly) is
+// inserted. Every way gives the one order.
 #pragma once
 
 #include <cstdint>
