@@ -59,7 +59,7 @@ typedef uint64_t Keys8 __attribute__((vector_size(64)));
 // unsigned integers (+0 added first, so that −0 is +0) in the upper half, the list position in the
 // lower; all ones for positions at n and past it (never read). nan: a view or window depth of
 // these fragments is NaN.
-constexpr int kPrefetchFloats = 512 / sizeof(float);
+constexpr int kPrefetchFloats = 2048 / sizeof(float);
 [[OITREF_AVX512]] inline Keys8 fragmentKeys(const TransparentFragment* list, uint32_t first, uint32_t n, bool& nan) {
   static_assert(sizeof(TransparentFragment) == 32 && offsetof(TransparentFragment, windowDepth) == 0 &&
                 offsetof(TransparentFragment, viewDepth) == 4);
@@ -71,9 +71,10 @@ constexpr int kPrefetchFloats = 512 / sizeof(float);
   typedef uint32_t U8 __attribute__((vector_size(32)));
   F16 pairs[4];  // two fragments each
   if (here == 8) {
-    // The lines 16 fragments (512 bytes) on, in this list or the next pixel's (a row's lists lie one
+    // The lines 64 fragments (2 KiB) on, in this list or the next pixels' (a row's lists lie one
     // after another), asked for now: with the network's work no longer hiding them, the reads
-    // waited on memory (dense 1080p, two threads: sort+composite 166–178 → 125–129 ms).
+    // waited on memory (dense 1080p, two threads: sort+composite 166–178 → 125–129 ms; 1 KiB on
+    // gained less, 4 KiB the same).
     for (int j = 0; j < 4; ++j) __builtin_prefetch(f + kPrefetchFloats + 16 * j);
     __builtin_memcpy(pairs, f, sizeof pairs);
   } else {
@@ -181,7 +182,11 @@ bool registerOrderAvailable() {
 }
 
 bool orderInRegisters(const TransparentFragment* list, uint32_t n, uint32_t* order, bool& tie) {
-  return n > 0 && registerOrderAvailable() && orderInWindow<4>(list, n, order, tie);
+  if (n == 0 || !registerOrderAvailable()) return false;
+  // A list that fits one window is sorted whole, in as few registers as hold it.
+  if (n <= 8) return orderInWindow<1>(list, n, order, tie);
+  if (n <= 16) return orderInWindow<2>(list, n, order, tie);
+  return orderInWindow<4>(list, n, order, tie);
 }
 #else
 bool registerOrderAvailable() { return false; }
