@@ -210,8 +210,8 @@ void DepthOrder::sortByInsertion(const TransparentFragment* list, uint32_t n, ui
 
 void DepthOrder::sortPair(const TransparentFragment* listA, uint32_t na, uint32_t* orderA, const TransparentFragment* listB,
                           uint32_t nb, uint32_t* orderB) {
-  // A list the merge sorts is done (it has parallel work of its own); two that it does not are
-  // inserted side by side.
+  // A list that the registers' window sorts is done (the network has parallel work of its own);
+  // two that it does not sort are inserted side by side.
   const bool doneA = sortInRegisters(listA, na, orderA), doneB = sortInRegisters(listB, nb, orderB);
   if (doneA || doneB) {
     if (!doneA) sortByInsertion(listA, na, orderA);

@@ -2,7 +2,8 @@
 // fragments lie near their place in it. Keys of 64 bits (the view depth's bits made to order as
 // unsigned integers, the list position below: distinct, so they have one sorted order, the order by
 // view depth with ties in list order) go through a window of 32: blocks of 32 sorted by a bitonic
-// network and merged with the 32 largest keys before them. A network makes the same comparisons
+// network and merged with the 32 largest keys before them (a list of up to 8 or 16 fragments is
+// sorted whole in one or two registers). A network makes the same comparisons
 // whatever the keys, so it has no branch to mispredict, where an insertion mispredicts about once
 // per fragment that moves; `dense`'s lists are not sorted (43 % of neighbouring fragments descend)
 // but every fragment has fewer than 32 larger ones before it. Whether the window sorted a list is
