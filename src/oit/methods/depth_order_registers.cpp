@@ -55,6 +55,11 @@ typedef uint64_t Keys8 __attribute__((vector_size(64)));
   return x;
 }
 
+// How many of the eight list positions first … first + 7 lie before n.
+[[OITREF_AVX512]] inline uint32_t listPositionsFrom(uint32_t first, uint32_t n) {
+  return n > first ? (n - first < 8 ? n - first : 8) : 0;
+}
+
 // The keys of the eight fragments list[first, first + 8): the view depth's bits made to order as
 // unsigned integers (+0 added first, so that −0 is +0) in the upper half, the list position in the
 // lower; all ones for positions at n and past it (never read). nan: a view or window depth of
@@ -63,7 +68,7 @@ constexpr int kPrefetchFloats = 2048 / sizeof(float);
 [[OITREF_AVX512]] inline Keys8 fragmentKeys(const TransparentFragment* list, uint32_t first, uint32_t n, bool& nan) {
   static_assert(sizeof(TransparentFragment) == 32 && offsetof(TransparentFragment, windowDepth) == 0 &&
                 offsetof(TransparentFragment, viewDepth) == 4);
-  const uint32_t here = n > first ? (n - first < 8 ? n - first : 8) : 0;
+  const uint32_t here = listPositionsFrom(first, n);
   const float* f = reinterpret_cast<const float*>(list + first);
   typedef float F16 __attribute__((vector_size(64)));
   typedef float F8 __attribute__((vector_size(32)));
@@ -134,7 +139,7 @@ template <int M>
 // last: the key emitted before them, then their last. sorted: false once a key is smaller than
 // the one before it; tie: true once two consecutive keys have equal view depths.
 [[OITREF_AVX512]] inline void emit(Keys8 x, uint32_t first, uint32_t n, uint32_t* order, Keys8& last, bool& sorted, bool& tie) {
-  const uint32_t here = n > first ? (n - first < 8 ? n - first : 8) : 0;
+  const uint32_t here = listPositionsFrom(first, n);
   const __mmask8 valid = __mmask8((1u << here) - 1);
   _mm512_mask_cvtepi64_storeu_epi32(order + first, valid, __m512i(x));
   const Keys8 before = __builtin_shufflevector(last, x, 7, 8, 9, 10, 11, 12, 13, 14);  // each lane's predecessor
