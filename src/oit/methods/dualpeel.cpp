@@ -65,6 +65,30 @@ void peel(float z, const glm::vec4& c, const glm::vec4& range, const glm::vec4& 
   out.writeIf(i, 2, isFarthest ? c : glm::vec4(0.0f), isFarthest || writes.backZero);
 }
 
+// peel() over a batch where only the changing writes are kept (outputs=changing). Each
+// fragment's case follows from its range alone; the front layer is fetched, and `under` formed,
+// only for the nearest fragments, the only ones that write it: in a later pass nearly every
+// fragment lies outside its pixel's range and writes nothing (on dense, fetching and forming them
+// for every fragment was a third of a peeling pass). The same writes as peel() with
+// writes.passThrough false, value for value.
+void peelChanging(const FragmentBatch& in, const glm::vec4* colors, const glm::vec4* ranges, const Image& frontPrev,
+                  bool backZero, FragmentBatchOutput& out) {
+  for (int i = 0; i < in.count; ++i) {
+    const float z = in.depth[i], nearest = -ranges[i].x, farthest = ranges[i].y;
+    const bool inside = z > nearest && z < farthest;
+    const bool isNearest = z == nearest, isFarthest = z == farthest && !isNearest;
+    out.writeIf(i, 0, glm::vec4(-z, z, 0.0f, 0.0f), inside);
+    if (isNearest) [[unlikely]] {
+      const glm::vec4 frontSoFar = frontPrev.fetch(in.x[i], in.y);
+      const float multiplier = 1.0f - frontSoFar.a;
+      const glm::vec4& c = colors[i];
+      out.write(i, 1, glm::vec4(glm::vec3(frontSoFar) + glm::vec3(c) * c.a * multiplier, 1.0f - multiplier * (1.0f - c.a)));
+    }
+    if (isFarthest) [[unlikely]] out.write(i, 2, colors[i]);
+    else if (backZero) out.write(i, 2, glm::vec4(0.0f));
+  }
+}
+
 class Dualpeel final : public OpaqueFirstMethod {
  public:
   explicit Dualpeel(const MethodOptions& o)
@@ -122,6 +146,7 @@ class Dualpeel final : public OpaqueFirstMethod {
                                [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
                                  glm::vec4 ranges[kShaderBatch], fronts[kShaderBatch];
                                  fetchTexels(depthPrev, in, ranges);
+                                 if (!writes.passThrough) return peelChanging(in, colors, ranges, frontPrev, writes.backZero, out);
                                  fetchTexels(frontPrev, in, fronts);
                                  for (int i = 0; i < in.count; ++i) peel(in.depth[i], colors[i], ranges[i], fronts[i], writes, out, i);
                                });
