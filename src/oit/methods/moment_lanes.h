@@ -55,6 +55,13 @@ inline v8f selectF(v8i m, v8f a, v8f b) { return m ? a : b; }
 inline lanes::d4 selectF(d4Mask m, lanes::d4 a, lanes::d4 b) { return m ? a : b; }
 inline bool anyLane(bool m) { return m; }
 inline bool anyLane(d4Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+inline bool anyLane(v8i m) {
+#if defined(__AVX__)
+  return _mm256_movemask_ps((__m256)m) != 0;
+#else
+  return (m[0] | m[1] | m[2] | m[3] | m[4] | m[5] | m[6] | m[7]) != 0;
+#endif
+}
 // out[l] = (m[l] != 0) for the eight lanes, stored at once: the lanes' sign bits (movemask) and
 // a table of their bytes. Left to a loop, GCC extracted and stored the lanes one at a time, a
 // sixth of the four-moment bound's time.

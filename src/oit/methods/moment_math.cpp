@@ -127,13 +127,20 @@ F fourPowerMomentAbsorbance(const F* m, F z, float overestimation, MaskOf<F>& ok
 }
 
 float divideAny(float a, float b) { return a / b; }
+v8f divideAny(v8f a, v8f b) { return a / b; }
 Cf divideAny(Cf a, Cf b) { return divide(a, b); }
+// A real value f as a T: itself, or f + 0i.
+template <typename T, typename R>
+T valueOf(R f) {
+  if constexpr (std::is_same_v<T, Cf>) return Cf{f, 0.0f};
+  else return f;
+}
 
 // Newton's divided differences through (x_i, f_i), i = 0…n, expanded to monomial coefficients.
-template <typename T>
-void interpolate(const T* x, const float* f, int n, T* poly) {
+template <typename T, typename R>
+void interpolate(const T* x, const R* f, int n, T* poly) {
   T dd[5];
-  for (int i = 0; i <= n; ++i) dd[i] = T{f[i]};
+  for (int i = 0; i <= n; ++i) dd[i] = valueOf<T>(f[i]);
   for (int level = 1; level <= n; ++level)
     for (int i = n; i >= level; --i) dd[i] = divideAny(dd[i] - dd[i - 1], x[i] - x[i - level]);
   // Horner on the Newton form: poly = dd[n]; poly = poly·(t − x_i) + dd[i].
@@ -149,65 +156,58 @@ void interpolate(const T* x, const float* f, int n, T* poly) {
 
 namespace {
 
-// A fragment's reconstruction from 6 or 8 power moments up to its roots: the biased moments and
-// the polynomial whose real roots are wanted (ok false: the Hankel matrix is not positive
-// definite, the fragment falls back).
-struct PowerProblem {
-  float m[9];
-  double polynomial[5];
-  bool ok = false;
-};
-
-PowerProblem powerProblem(int count, const float* b, float z, float bias, const float* biasVector) {
-  PowerProblem t;
-  float* m = t.m;
-  m[0] = 1.0f;
-  for (int k = 0; k < count; ++k) m[k + 1] = biasedMoment(b[k], bias, biasVector[k]);
+// A fragment's reconstruction from 6 or 8 power moments up to its roots, for one fragment
+// (F = float) or eight side by side (F = v8f: each lane the scalar operations, so the same bits).
+// m[1…count] hold the biased moments on entry; m[0] = 1 is set here. c gets the polynomial whose
+// real roots are wanted (fp32, as the shader's solve leaves it). False (per lane) where the
+// Hankel matrix is not positive definite: the fragment falls back.
+template <typename F>
+MaskOf<F> powerProblem(int count, F z, F* m, F* c) {
+  m[0] = splatF<F>(1.0f);
   const int n = count / 2;
+  MaskOf<F> ok = splatF<F>(0.0f) == splatF<F>(0.0f);
   // Hankel matrix H_ij = m_{i+j} = L·D·Lᵀ.
-  float L[5][5] = {}, D[5];
+  F L[5][5] = {}, D[5];
   for (int j = 0; j <= n; ++j) {
-    float d = m[2 * j];
-    for (int k = 0; k < j; ++k) d -= L[j][k] * L[j][k] * D[k];
-    if (!(d > 0.0f)) return t;
+    F d = m[2 * j];
+    for (int k = 0; k < j; ++k) d = d - L[j][k] * L[j][k] * D[k];
+    ok = lanes::both(ok, d > splatF<F>(0.0f));
+    if (!anyLane(ok)) return ok;
     D[j] = d;
     for (int i = j + 1; i <= n; ++i) {
-      float v = m[i + j];
-      for (int k = 0; k < j; ++k) v -= L[i][k] * L[j][k] * D[k];
+      F v = m[i + j];
+      for (int k = 0; k < j; ++k) v = v - L[i][k] * L[j][k] * D[k];
       L[i][j] = v / d;
     }
   }
   // H·c = (1, z, …, z^n): forward, scale, backward substitution.
-  float c[5];
-  c[0] = 1.0f;
+  c[0] = splatF<F>(1.0f);
   for (int k = 1; k <= n; ++k) c[k] = c[k - 1] * z;
   for (int i = 1; i <= n; ++i)
-    for (int k = 0; k < i; ++k) c[i] -= L[i][k] * c[k];
-  for (int i = 0; i <= n; ++i) c[i] /= D[i];
+    for (int k = 0; k < i; ++k) c[i] = c[i] - L[i][k] * c[k];
+  for (int i = 0; i <= n; ++i) c[i] = c[i] / D[i];
   for (int i = n - 1; i >= 0; --i)
-    for (int k = i + 1; k <= n; ++k) c[i] -= L[k][i] * c[k];
-  for (int k = 0; k <= n; ++k) t.polynomial[k] = c[k];
-  t.ok = true;
-  return t;
+    for (int k = i + 1; k <= n; ++k) c[i] = c[i] - L[k][i] * c[k];
+  return ok;
 }
 
-// The rest, from the roots: the absorbance, or false (fall back) where a root is missing or not
-// finite, or the result is not finite.
-bool powerAbsorbanceFromRoots(const PowerProblem& t, int n, const RootList<double>& roots, float z, float overestimation,
-                              float& absorbance) {
-  if (int(roots.size()) != n) return false;
-  float x[5], f[5];
-  x[0] = z, f[0] = overestimation;
+// The rest, from the n roots x (as fp32; per lane): the absorbance. `ok` turns false where a root
+// or the result is not finite.
+template <typename F>
+F powerAbsorbanceFromRoots(const F* m, int n, const F* roots, F z, float overestimation, MaskOf<F>& ok) {
+  F x[5], f[5];
+  x[0] = z, f[0] = splatF<F>(overestimation);
   for (int i = 0; i < n; ++i) {
-    x[i + 1] = float(roots[size_t(i)]);
-    if (!std::isfinite(x[i + 1])) return false;
-    f[i + 1] = x[i + 1] < z ? 1.0f : 0.0f;
+    x[i + 1] = roots[i];
+    ok = lanes::both(ok, finiteF(x[i + 1]));
+    f[i + 1] = selectF(x[i + 1] < z, splatF<F>(1.0f), splatF<F>(0.0f));
   }
-  float poly[5];
+  F poly[5];
   interpolate(x, f, n, poly);
-  absorbance = 0.0f;
-  for (int k = 0; k <= n; ++k) absorbance += poly[k] * t.m[k];
-  return std::isfinite(absorbance);
+  F absorbance = splatF<F>(0.0f);
+  for (int k = 0; k <= n; ++k) absorbance = absorbance + poly[k] * m[k];
+  ok = lanes::both(ok, finiteF(absorbance));
+  return absorbance;
 }
 
 }  // namespace
@@ -226,12 +226,19 @@ float powerMomentAbsorbance(int count, const float* b, float z, float bias, cons
     const float a = fourPowerMomentAbsorbance(m, z, overestimation, ok);
     return ok && std::isfinite(a) ? a : fallBack();
   }
-  const PowerProblem t = powerProblem(count, b, z, bias, biasVector);
-  if (!t.ok) return fallBack();
-  float absorbance = 0.0f;
-  return powerAbsorbanceFromRoots(t, count / 2, realRootsOfRealRooted(t.polynomial, count / 2), z, overestimation, absorbance)
-             ? absorbance
-             : fallBack();
+  float m[9], c[5];
+  for (int k = 0; k < count; ++k) m[k + 1] = biasedMoment(b[k], bias, biasVector[k]);
+  if (!powerProblem(count, z, m, c)) return fallBack();
+  const int n = count / 2;
+  double polynomial[5] = {};
+  for (int k = 0; k <= n; ++k) polynomial[k] = c[k];
+  const RootList<double> found = realRootsOfRealRooted(polynomial, n);
+  if (int(found.size()) != n) return fallBack();
+  float roots[4];
+  for (int i = 0; i < n; ++i) roots[i] = float(found[size_t(i)]);
+  bool ok = true;
+  const float absorbance = powerAbsorbanceFromRoots(m, n, roots, z, overestimation, ok);
+  return ok ? absorbance : fallBack();
 }
 
 void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, const float* biasVector,
@@ -287,27 +294,40 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
     }
   }
   if (count != 4) {
-    // 6 and 8 moments: the roots of four fragments' polynomials at once in lanes (the Newton
-    // iterations are a chain of dependent divisions, which one fragment leaves mostly idle).
+    // 6 and 8 moments: eight fragments' problems and absorbances in lanes, their roots four at a
+    // time (the Newton iterations are a chain of dependent divisions, which one fragment leaves
+    // mostly idle). The lanes beyond the last fragment repeat it.
     const int roots = count / 2;
-    for (; i < n; i += 4) {
-      const int m = std::min(4, n - i);
-      PowerProblem problems[4];
-      const double* polynomials[4];
-      int solvable[4], s = 0;
-      for (int l = 0; l < m; ++l) {
-        problems[l] = powerProblem(count, b + size_t(i + l) * count, z[i + l], bias, biasVector);
-        if (problems[l].ok) polynomials[s] = problems[l].polynomial, solvable[s++] = l;
+    for (; i < n; i += 8) {
+      const int m = std::min(8, n - i);
+      v8f moments[9], zl, c[5];
+      for (int l = 0; l < 8; ++l) {
+        const int j = i + std::min(l, m - 1);
+        for (int k = 0; k < count; ++k) moments[k + 1][l] = biasedMoment(b[size_t(j) * count + size_t(k)], bias, biasVector[k]);
+        zl[l] = z[j];
       }
-      RootList<double> found[4];
-      if (s > 0) realRootsOfRealRooted4(polynomials, roots, s, found);
-      for (int l = 0; l < m; ++l) absorbance[i + l] = overestimation, fellBack[i + l] = true;
+      v8i ok = powerProblem(count, zl, moments, c);
+      double polynomials[8][5];
+      const double* solvablePolynomials[8];
+      int solvable[8], s = 0;
+      for (int l = 0; l < m; ++l)
+        if (ok[l]) {
+          for (int k = 0; k <= roots; ++k) polynomials[l][k] = c[k][l];
+          solvablePolynomials[s] = polynomials[l], solvable[s++] = l;
+        }
+      RootList<double> found[8];
+      for (int g = 0; g < s; g += 4) realRootsOfRealRooted4(solvablePolynomials + g, roots, std::min(4, s - g), found + g);
+      v8f rootLanes[4] = {};
+      v8i complete = {};
       for (int j = 0; j < s; ++j) {
         const int l = solvable[j];
-        float a = 0.0f;
-        const bool ok = powerAbsorbanceFromRoots(problems[l], roots, found[j], z[i + l], overestimation, a);
-        absorbance[i + l] = ok ? a : overestimation, fellBack[i + l] = !ok;
+        if (int(found[j].size()) != roots) continue;
+        complete[l] = -1;
+        for (int r = 0; r < roots; ++r) rootLanes[r][l] = float(found[j][size_t(r)]);
       }
+      ok &= complete;
+      const v8f a = powerAbsorbanceFromRoots(moments, roots, rootLanes, zl, overestimation, ok);
+      for (int l = 0; l < m; ++l) absorbance[i + l] = ok[l] ? a[l] : overestimation, fellBack[i + l] = !ok[l];
     }
   }
   for (; i < n; ++i)
