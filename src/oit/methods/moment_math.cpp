@@ -37,11 +37,25 @@ float MomentSet::defaultBias(bool quantised) const {
   return count == 4 ? (quantised ? 6e-5f : 5e-7f) : count == 6 ? (quantised ? 6e-4f : 5e-6f) : (quantised ? 2.5e-3f : 5e-5f);
 }
 
-float circleToParameter(float x, float y) {
-  float result = std::fabs(y) - std::fabs(x);
-  result = x < 0.0f ? 2.0f - result : result;
-  return y < 0.0f ? 6.0f - result : result;
+namespace {
+// |x| per lane (the sign bit cleared, as fabs).
+float absLanes(float x) { return std::fabs(x); }
+v8f absLanes(v8f x) { return (v8f)((v8i)x & 0x7fffffff); }
+// std::clamp(x, 0, 1) per lane (NaN stays NaN).
+float clampUnit(float x) { return std::clamp(x, 0.0f, 1.0f); }
+v8f clampUnit(v8f x) {
+  const v8f zero = splatF<v8f>(0.0f), one = splatF<v8f>(1.0f);
+  return selectF(x < zero, zero, selectF(one < x, one, x));
 }
+template <typename F>
+F circleParameter(F x, F y) {
+  F result = absLanes(y) - absLanes(x);
+  result = selectF(x < splatF<F>(0.0f), splatF<F>(2.0f) - result, result);
+  return selectF(y < splatF<F>(0.0f), splatF<F>(6.0f) - result, result);
+}
+}  // namespace
+
+float circleToParameter(float x, float y) { return circleParameter(x, y); }
 
 WrappingZone WrappingZone::fromAngle(float angle) {
   constexpr double kPi = 3.14159265358979323846;
@@ -66,7 +80,8 @@ Cf unitCirclePoint(float z, const WrappingZone& zone) {
 }
 
 // w, w², w³, w⁴ formed as the shaders do: w² = w·w, w³ = w·w², w⁴ = w²·w².
-void circlePowers(Cf w, int count, Cf* out) {
+template <typename T>
+void circlePowers(Cx<T> w, int count, Cx<T>* out) {
   out[0] = w;
   if (count > 1) out[1] = w * w;
   if (count > 2) out[2] = w * out[1];
@@ -128,12 +143,13 @@ F fourPowerMomentAbsorbance(const F* m, F z, float overestimation, MaskOf<F>& ok
 
 float divideAny(float a, float b) { return a / b; }
 v8f divideAny(v8f a, v8f b) { return a / b; }
-Cf divideAny(Cf a, Cf b) { return divide(a, b); }
+template <typename F>
+Cx<F> divideAny(Cx<F> a, Cx<F> b) { return divide(a, b); }
 // A real value f as a T: itself, or f + 0i.
 template <typename T, typename R>
 T valueOf(R f) {
-  if constexpr (std::is_same_v<T, Cf>) return Cf{f, 0.0f};
-  else return f;
+  if constexpr (std::is_same_v<T, R>) return f;
+  else return T{f, splatF<R>(0.0f)};
 }
 
 // Newton's divided differences through (x_i, f_i), i = 0…n, expanded to monomial coefficients.
@@ -336,113 +352,133 @@ void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n
 
 namespace {
 
-// A fragment's trigonometric reconstruction up to its roots: the biased moments, the point of
-// its depth on the unit circle, and the polynomial whose roots are wanted (ok false: the
-// Toeplitz matrix is not positive definite, the fragment falls back).
-struct TrigProblem {
-  Cf B[5];
-  Cf w;
-  std::complex<double> polynomial[5];
-  bool ok = false;
-};
-
-TrigProblem trigProblem(int n, const float* b, float z, float bias, const WrappingZone& zone) {
-  TrigProblem t;
-  Cf* B = t.B;
-  B[0] = {1.0f, 0.0f};
-  for (int k = 1; k <= n; ++k) B[k] = Cf{b[2 * (k - 1)], b[2 * (k - 1) + 1]} * (1.0f - bias);
+// A fragment's trigonometric reconstruction up to its roots, for one fragment (F = float) or
+// eight side by side (F = v8f: each lane the scalar operations, so the same bits). B[1…n] hold
+// the biased moments on entry; B[0] = 1 is set here. w is the fragment's depth on the unit circle;
+// c gets the coefficients whose conjugates, Σ conj(c_k)·x^k, form the polynomial with the wanted
+// roots (on the unit circle). False (per lane) where the Toeplitz matrix is not positive definite:
+// the fragment falls back.
+template <typename F>
+MaskOf<F> trigProblem(int n, Cx<F> w, Cx<F>* B, Cx<F>* c) {
+  const F one = splatF<F>(1.0f), zero = splatF<F>(0.0f);
+  B[0] = {one, zero};
+  MaskOf<F> ok = zero == zero;
   // Toeplitz T_ij = b_{i−j} (i ≥ j), conj(b_{j−i}) above: T = L·D·Lᴴ.
-  Cf L[5][5] = {};
-  float D[5];
+  Cx<F> L[5][5] = {};
+  F D[5];
   for (int j = 0; j <= n; ++j) {
-    float d = B[0].x;
-    for (int k = 0; k < j; ++k) d -= norm(L[j][k]) * D[k];
-    if (!(d > 0.0f)) return t;
+    F d = B[0].x;
+    for (int k = 0; k < j; ++k) d = d - norm(L[j][k]) * D[k];
+    ok = lanes::both(ok, d > zero);
+    if (!anyLane(ok)) return ok;
     D[j] = d;
-    const float inv = 1.0f / d;
+    const F inv = one / d;
     for (int i = j + 1; i <= n; ++i) {
-      Cf v = B[i - j];
+      Cx<F> v = B[i - j];
       for (int k = 0; k < j; ++k) v = v - L[i][k] * conj(L[j][k]) * D[k];
       L[i][j] = v * inv;
     }
   }
-  t.w = unitCirclePoint(z, zone);
-  Cf c[5];
-  c[0] = {1.0f, 0.0f};
-  circlePowers(t.w, n, c + 1);
+  c[0] = {one, zero};
+  circlePowers(w, n, c + 1);
   for (int i = 1; i <= n; ++i)
     for (int k = 0; k < i; ++k) c[i] = c[i] - L[i][k] * c[k];
-  for (int i = 0; i <= n; ++i) c[i] = c[i] * (1.0f / D[i]);
+  for (int i = 0; i <= n; ++i) c[i] = c[i] * (one / D[i]);
   for (int i = n - 1; i >= 0; --i)
     for (int k = i + 1; k <= n; ++k) c[i] = c[i] - conj(L[k][i]) * c[k];
-  // The roots of Σ conj(c_k)·x^k lie on the unit circle.
-  for (int k = 0; k <= n; ++k) t.polynomial[k] = {double(c[k].x), -double(c[k].y)};
-  t.ok = true;
-  return t;
+  return ok;
 }
 
-// The rest, from the roots: the absorbance, or false (fall back) where a root or the result is
-// not finite.
-bool trigAbsorbanceFromRoots(const TrigProblem& t, int n, const std::complex<double>* roots, float overestimation,
-                             const WrappingZone& zone, float& absorbance) {
-  const float depthParameter = circleToParameter(t.w.x, t.w.y);
-  Cf x[5];
-  float f[5];
-  x[0] = t.w, f[0] = overestimation;
+// The rest, from the n roots (as fp32; per lane): the absorbance. `ok` turns false where a root or
+// the result is not finite.
+template <typename F>
+F trigAbsorbanceFromRoots(const Cx<F>* B, Cx<F> w, int n, const Cx<F>* roots, float overestimation,
+                          const WrappingZone& zone, MaskOf<F>& ok) {
+  const F depthParameter = circleParameter(w.x, w.y);
+  Cx<F> x[5];
+  F f[5];
+  x[0] = w, f[0] = splatF<F>(overestimation);
   for (int i = 0; i < n; ++i) {
-    x[i + 1] = {float(roots[i].real()), float(roots[i].imag())};
-    if (!std::isfinite(x[i + 1].x) || !std::isfinite(x[i + 1].y)) return false;
-    const float rootParameter = circleToParameter(x[i + 1].x, x[i + 1].y);
-    f[i + 1] = (rootParameter < depthParameter ? 1.0f : 0.0f) +
-               std::clamp(rootParameter * zone.rampScale + zone.rampOffset, 0.0f, 1.0f);
+    x[i + 1] = roots[i];
+    ok = lanes::both(ok, lanes::both(finiteF(x[i + 1].x), finiteF(x[i + 1].y)));
+    const F rootParameter = circleParameter(x[i + 1].x, x[i + 1].y);
+    f[i + 1] = selectF(rootParameter < depthParameter, splatF<F>(1.0f), splatF<F>(0.0f)) +
+               clampUnit(rootParameter * zone.rampScale + zone.rampOffset);
   }
-  Cf poly[5];
+  Cx<F> poly[5];
   interpolate(x, f, n, poly);
-  absorbance = 0.0f;
-  for (int k = 0; k <= n; ++k) absorbance += (t.B[k] * poly[k]).x;
-  return std::isfinite(absorbance);
+  F absorbance = splatF<F>(0.0f);
+  for (int k = 0; k <= n; ++k) absorbance = absorbance + (B[k] * poly[k]).x;
+  ok = lanes::both(ok, finiteF(absorbance));
+  return absorbance;
+}
+
+// The polynomial Σ conj(c_k)·x^k whose roots complexRoots finds.
+void conjugatePolynomial(const Cf* c, int n, std::complex<double>* polynomial) {
+  for (int k = 0; k <= n; ++k) polynomial[k] = {double(c[k].x), -double(c[k].y)};
 }
 
 }  // namespace
 
 float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation, const WrappingZone& zone,
                            bool* fellBack) {
+  Cf B[5], c[5];
+  for (int k = 1; k <= count; ++k) B[k] = Cf{b[2 * (k - 1)], b[2 * (k - 1) + 1]} * (1.0f - bias);
+  const Cf w = unitCirclePoint(z, zone);
+  bool ok = trigProblem(count, w, B, c);
   float absorbance = overestimation;
-  trigMomentAbsorbanceBatch(count, b, &z, 1, bias, overestimation, zone, &absorbance, fellBack);
+  if (ok) {
+    std::complex<double> polynomial[5];
+    conjugatePolynomial(c, count, polynomial);
+    const RootList<std::complex<double>> found = complexRoots(polynomial, count);
+    Cf roots[4];
+    for (int k = 0; k < count; ++k) roots[k] = {float(found[size_t(k)].real()), float(found[size_t(k)].imag())};
+    absorbance = trigAbsorbanceFromRoots(B, w, count, roots, overestimation, zone, ok);
+    if (!ok) absorbance = overestimation;
+  }
+  if (fellBack) *fellBack = !ok;
   return absorbance;
 }
 
 void trigMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, float overestimation,
                                const WrappingZone& zone, float* absorbance, bool* fellBack) {
   const int reals = 2 * count;
-  constexpr int kMost = 64;
-  for (int start = 0; start < n; start += kMost) {
-    const int m = std::min(kMost, n - start);
-    TrigProblem problems[kMost];
-    const std::complex<double>* polynomials[kMost];
-    int solvable[kMost], s = 0;
-    for (int i = 0; i < m; ++i) {
-      problems[i] = trigProblem(count, b + size_t(start + i) * size_t(reals), z[start + i], bias, zone);
-      if (problems[i].ok) polynomials[s] = problems[i].polynomial, solvable[s++] = i;
+  // Eight fragments in lanes; the lanes beyond the last fragment repeat it.
+  for (int i = 0; i < n; i += 8) {
+    const int m = std::min(8, n - i);
+    Cx<v8f> B[5], w, c[5];
+    for (int l = 0; l < 8; ++l) {
+      const int j = i + std::min(l, m - 1);
+      const Cf point = unitCirclePoint(z[j], zone);
+      w.x[l] = point.x, w.y[l] = point.y;
+      for (int k = 1; k <= count; ++k) {
+        const Cf moment = Cf{b[size_t(j) * reals + 2 * (k - 1)], b[size_t(j) * reals + 2 * (k - 1) + 1]} * (1.0f - bias);
+        B[k].x[l] = moment.x, B[k].y[l] = moment.y;
+      }
     }
-    std::complex<double> roots[kMost * 4];
-    if (s == 1) {  // complexRoots itself: trigMomentAbsorbance's path, the oracle of the lanes' tests
-      const RootList<std::complex<double>> r = complexRoots(polynomials[0], count);
-      for (int k = 0; k < count; ++k) roots[k] = r[size_t(k)];
-    } else if (s > 1) {
-      complexRootsBatch(polynomials, count, s, roots);
-    }
-    for (int i = 0; i < m; ++i) {
-      float& out = absorbance[start + i];
-      out = overestimation;
-      if (fellBack) fellBack[start + i] = true;
-    }
-    for (int j = 0; j < s; ++j) {
-      const int i = solvable[j];
-      float& out = absorbance[start + i];
-      const bool ok = trigAbsorbanceFromRoots(problems[i], count, roots + size_t(j) * 4, overestimation, zone, out);
-      if (!ok) out = overestimation;
-      if (fellBack) fellBack[start + i] = !ok;
+    v8i ok = trigProblem(count, w, B, c);
+    std::complex<double> polynomials[8][5];
+    const std::complex<double>* solvablePolynomials[8];
+    int solvable[8], s = 0;
+    for (int l = 0; l < m; ++l)
+      if (ok[l]) {
+        Cf lane[5];
+        for (int k = 0; k <= count; ++k) lane[k] = {c[k].x[l], c[k].y[l]};
+        conjugatePolynomial(lane, count, polynomials[l]);
+        solvablePolynomials[s] = polynomials[l], solvable[s++] = l;
+      }
+    std::complex<double> roots[8 * 4];
+    if (s > 0) complexRootsBatch(solvablePolynomials, count, s, roots);
+    Cx<v8f> rootLanes[4] = {};
+    for (int j = 0; j < s; ++j)
+      for (int r = 0; r < count; ++r) {
+        rootLanes[r].x[solvable[j]] = float(roots[size_t(j) * 4 + size_t(r)].real());
+        rootLanes[r].y[solvable[j]] = float(roots[size_t(j) * 4 + size_t(r)].imag());
+      }
+    const v8f a = trigAbsorbanceFromRoots(B, w, count, rootLanes, overestimation, zone, ok);
+    for (int l = 0; l < m; ++l) {
+      absorbance[i + l] = ok[l] ? a[l] : overestimation;
+      if (fellBack) fellBack[i + l] = !ok[l];
     }
   }
 }
