@@ -33,6 +33,7 @@
 // same as the 2D kernel's up to rounding.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -101,6 +102,24 @@ double hyab(const Vec3& a, const Vec3& b) {
 }
 
 double srgbDecode(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+// f(x) with the last argument's result kept: flat regions of an image repeat a value, and their
+// pixels then skip the call (the same function of the same bits, so the same result).
+template <typename Arg, typename Result>
+struct LastResult {
+  Arg arg{};
+  Result result{};
+  bool held = false;
+  template <typename F>
+  const Result& operator()(const Arg& x, F f) {
+    if (!held || std::memcmp(&x, &arg, sizeof x) != 0) arg = x, result = f(x), held = true;
+    return result;
+  }
+};
+
+// std::pow(x, y) for x ≥ 0 and y > 0 that is not an odd integer: +0 for x = 0 without the call
+// (C17 F.10.4.4: pow(±0, y) is +0 for such y), where the images agree.
+double powOfNonNegative(double x, double y) { return x == 0.0 ? 0.0 : std::pow(x, y); }
 
 double displayed(float value) { return std::isnan(value) ? 0.0 : std::clamp(double(value), 0.0, 1.0); }
 
@@ -206,11 +225,12 @@ Opponent prepare(const Image& image, const ColourSpace& space) {
   Opponent p;
   for (Plane& plane : p.opponent) plane = {w, h, std::vector<double>(size_t(w) * h)};
   p.achromatic = {w, h, std::vector<double>(size_t(w) * h)};
+  LastResult<double, double> decoded[3];
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const glm::vec4 v = image.fetch(x, y);
       Vec3 linear{};
-      for (int c = 0; c < 3; ++c) linear.v[c] = srgbDecode(displayed(v[channels >= 3 ? c : 0]));
+      for (int c = 0; c < 3; ++c) linear.v[c] = decoded[c](displayed(v[channels >= 3 ? c : 0]), srgbDecode);
       const Vec3 o = space.toYCxCz(linear);
       const size_t i = size_t(y) * w + x;
       for (int c = 0; c < 3; ++c) p.opponent[c].v[i] = o.v[c];
@@ -224,10 +244,11 @@ std::vector<Vec3> perceived(const Opponent& p, const ColourSpace& space, double 
   const Plane f[3] = {csfFilter(p.opponent[0], kAchromatic, ppd), csfFilter(p.opponent[1], kRedGreen, ppd),
                       csfFilter(p.opponent[2], kBlueYellow, ppd)};
   std::vector<Vec3> out(f[0].v.size());
+  LastResult<Vec3, Vec3> lab;
   for (size_t i = 0; i < out.size(); ++i) {
     Vec3 linear = space.linearFromYCxCz({{f[0].v[i], f[1].v[i], f[2].v[i]}});
     for (double& c : linear.v) c = std::clamp(c, 0.0, 1.0);
-    out[i] = space.huntLab(linear);
+    out[i] = lab(linear, [&](const Vec3& l) { return space.huntLab(l); });
   }
   return out;
 }
@@ -277,12 +298,15 @@ FlipResult FlipReference::compare(const Image& test) const {
   r.error.resize(n), r.colour.resize(n), r.feature.resize(n);
   double sum = 0;
   for (size_t i = 0; i < n; ++i) {
-    const double c = std::pow(hyab(ref.lab[i], labTest[i]), qc);
+    const double c = powOfNonNegative(hyab(ref.lab[i], labTest[i]), qc);
     r.colour[i] = c < pc * cmax ? pt / (pc * cmax) * c : pt + (c - pc * cmax) / (cmax - pc * cmax) * (1 - pt);
     const double featureDifference =
         std::max(std::fabs(ref.edges[i] - edgeTest[i]), std::fabs(ref.points[i] - pointTest[i]));
-    r.feature[i] = std::pow(featureDifference / std::sqrt(2.0), qf);
-    r.error[i] = std::pow(r.colour[i], 1 - r.feature[i]);
+    r.feature[i] = powOfNonNegative(featureDifference / std::sqrt(2.0), qf);
+    // pow(x, 1) is x (pow is within an ulp of the exact x^y); colour ≥ 0 and 1 − feature ≤ 1.
+    const double exponent = 1 - r.feature[i];
+    r.error[i] = exponent == 1.0 ? r.colour[i] : exponent > 0.0 ? powOfNonNegative(r.colour[i], exponent)
+                                                                 : std::pow(r.colour[i], exponent);
     sum += r.error[i];
     r.max = std::max(r.max, r.error[i]);
   }
