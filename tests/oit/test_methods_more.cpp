@@ -10,6 +10,8 @@
 #include "methods/dfaoit_network.h"
 #include "methods/methods.h"
 #include "oitref/core/depth.h"
+#include "support.h"
+#include "util/seeded_random.h"
 
 using namespace oitref;
 using namespace oitref::test;
@@ -225,6 +227,32 @@ TEST_CASE("stochastic: masks have round(α·S) bits, differ between fragments, r
       }
       if (want > 0 && want < s) CHECK(distinct.size() > 10);
     }
+}
+
+TEST_CASE("stochastic: a mask is the first round(α·S) entries of a Fisher–Yates shuffle of the samples",
+          "[methods][stochastic]") {
+  // The oracle: the shuffle as the textbook writes it (every entry filled, then swapped), driven by
+  // the same generator from the fragment's key.
+  test::BitStream rng(5);
+  for (int i = 0; i < 3000; ++i) {
+    const int samples = i % 3 == 0 ? 8 : i % 3 == 1 ? 16 : 32;
+    const float alpha = rng.uniform(0.0f, 1.0f);
+    const uint32_t seed = uint32_t(rng.next()), object = uint32_t(rng.next() % 50), primitive = uint32_t(rng.next());
+    const int x = int(rng.next() % 4096), y = int(rng.next() % 4096);
+    uint64_t state = methods::stochasticFragmentKey(seed, x, y, object, primitive);
+    util::splitMix64(state);
+    std::vector<int> order(static_cast<size_t>(samples));
+    for (int k = 0; k < samples; ++k) order[size_t(k)] = k;
+    const int bits = std::clamp(int(std::floor(double(alpha) * samples + 0.5)), 0, samples);
+    uint32_t want = 0;
+    for (int k = 0; k < bits; ++k) {
+      const int j = k + int(util::splitMix64(state) % uint64_t(samples - k));
+      std::swap(order[size_t(k)], order[size_t(j)]);
+      want |= 1u << order[size_t(k)];
+    }
+    INFO("samples " << samples << " alpha " << alpha);
+    REQUIRE(methods::stochasticMask(seed, x, y, object, primitive, alpha, samples) == want);
+  }
 }
 
 TEST_CASE("stochastic: red over green over blue, the paper's example", "[methods][stochastic]") {
