@@ -69,9 +69,10 @@ const float* powerBiasVector(int count, bool quantised);
 // definite, or a root or the result is not finite).
 float powerMomentAbsorbance(int count, const float* b, float z, float bias, const float* biasVector,
                             float overestimation, bool* fellBack = nullptr);
-// powerMomentAbsorbance for n fragments: b[i·count + k] their moments, z[i] their depths; the
-// four-moment closed form runs eight fragments side by side in vector lanes (the same operations
-// per lane, so the same bits), other counts one at a time.
+// powerMomentAbsorbance for n fragments: b[i·count + k] their moments, z[i] their depths. Eight
+// fragments run side by side in vector lanes (the same operations per lane, so the same bits):
+// the four-moment closed form, and for 6 and 8 moments the solve and the absorbance from the
+// roots, whose roots are found four at a time.
 void powerMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, const float* biasVector,
                                 float overestimation, float* absorbance, bool* fellBack);
 // The moment pulled towards the bias vector: (1 − β)·b + β·bias, as the paper code forms it.
@@ -82,8 +83,9 @@ inline F biasedMoment(F b, float bias, float biasValue) {
 }
 float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation,
                            const WrappingZone& zone, bool* fellBack = nullptr);
-// trigMomentAbsorbance for n fragments (b[i·2·count + k], z[i]): their roots found four at a time
-// in vector lanes, each lane iterating as it would alone (the same bits).
+// trigMomentAbsorbance for n fragments (b[i·2·count + k], z[i]): the solve and the absorbance from
+// the roots for eight fragments side by side in vector lanes, the roots found four at a time, each
+// lane computing as it would alone (the same bits).
 void trigMomentAbsorbanceBatch(int count, const float* b, const float* z, int n, float bias, float overestimation,
                                const WrappingZone& zone, float* absorbance, bool* fellBack);
 
