@@ -48,21 +48,33 @@ struct PeelingPassWrites {
   bool backZero = true;
 };
 
+// Which case a fragment at window depth z falls in, against its pixel's unpeeled range
+// (−nearest, farthest) from the previous pass.
+struct PeelCase {
+  bool inside, isNearest, isFarthest;
+  PeelCase(float z, const glm::vec4& range) {
+    const float nearest = -range.x, farthest = range.y;
+    inside = z > nearest && z < farthest;
+    isNearest = z == nearest, isFarthest = z == farthest && !isNearest;
+  }
+};
+// The nearest fragment (colour c) under the front layer so far.
+glm::vec4 underFront(const glm::vec4& frontSoFar, const glm::vec4& c) {
+  const float multiplier = 1.0f - frontSoFar.a;
+  return {glm::vec3(frontSoFar) + glm::vec3(c) * c.a * multiplier, 1.0f - multiplier * (1.0f - c.a)};
+}
+
 // A peeling pass's shader for one fragment at window depth z with colour c: the pixel's unpeeled
-// range (−nearest, farthest) and front layer so far from the previous pass. Targets: 0 the next
-// range, 1 the front layer (this fragment under it when it is the nearest), 2 this fragment when
-// it is the farthest.
+// range and front layer so far from the previous pass. Targets: 0 the next range, 1 the front
+// layer (this fragment under it when it is the nearest), 2 this fragment when it is the farthest.
 void peel(float z, const glm::vec4& c, const glm::vec4& range, const glm::vec4& frontSoFar, PeelingPassWrites writes,
           FragmentBatchOutput& out, int i) {
-  const float nearest = -range.x, farthest = range.y;
   // Without branches: which case a fragment falls in follows its layers, which no predictor does.
-  const bool inside = z > nearest && z < farthest;
-  const bool isNearest = z == nearest, isFarthest = z == farthest && !isNearest;
-  const float multiplier = 1.0f - frontSoFar.a;
-  const glm::vec4 under(glm::vec3(frontSoFar) + glm::vec3(c) * c.a * multiplier, 1.0f - multiplier * (1.0f - c.a));
-  out.writeIf(i, 0, inside ? glm::vec4(-z, z, 0.0f, 0.0f) : glm::vec4(-1.0f), inside || writes.passThrough);
-  out.writeIf(i, 1, isNearest ? under : frontSoFar, isNearest || writes.passThrough);
-  out.writeIf(i, 2, isFarthest ? c : glm::vec4(0.0f), isFarthest || writes.backZero);
+  const PeelCase k(z, range);
+  const glm::vec4 under = underFront(frontSoFar, c);
+  out.writeIf(i, 0, k.inside ? glm::vec4(-z, z, 0.0f, 0.0f) : glm::vec4(-1.0f), k.inside || writes.passThrough);
+  out.writeIf(i, 1, k.isNearest ? under : frontSoFar, k.isNearest || writes.passThrough);
+  out.writeIf(i, 2, k.isFarthest ? c : glm::vec4(0.0f), k.isFarthest || writes.backZero);
 }
 
 // peel() over a batch where only the changing writes are kept (outputs=changing). Each
@@ -74,17 +86,11 @@ void peel(float z, const glm::vec4& c, const glm::vec4& range, const glm::vec4& 
 void peelChanging(const FragmentBatch& in, const glm::vec4* colors, const glm::vec4* ranges, const Image& frontPrev,
                   bool backZero, FragmentBatchOutput& out) {
   for (int i = 0; i < in.count; ++i) {
-    const float z = in.depth[i], nearest = -ranges[i].x, farthest = ranges[i].y;
-    const bool inside = z > nearest && z < farthest;
-    const bool isNearest = z == nearest, isFarthest = z == farthest && !isNearest;
-    out.writeIf(i, 0, glm::vec4(-z, z, 0.0f, 0.0f), inside);
-    if (isNearest) [[unlikely]] {
-      const glm::vec4 frontSoFar = frontPrev.fetch(in.x[i], in.y);
-      const float multiplier = 1.0f - frontSoFar.a;
-      const glm::vec4& c = colors[i];
-      out.write(i, 1, glm::vec4(glm::vec3(frontSoFar) + glm::vec3(c) * c.a * multiplier, 1.0f - multiplier * (1.0f - c.a)));
-    }
-    if (isFarthest) [[unlikely]] out.write(i, 2, colors[i]);
+    const float z = in.depth[i];
+    const PeelCase k(z, ranges[i]);
+    out.writeIf(i, 0, glm::vec4(-z, z, 0.0f, 0.0f), k.inside);
+    if (k.isNearest) [[unlikely]] out.write(i, 1, underFront(frontPrev.fetch(in.x[i], in.y), colors[i]));
+    if (k.isFarthest) [[unlikely]] out.write(i, 2, colors[i]);
     else if (backZero) out.write(i, 2, glm::vec4(0.0f));
   }
 }

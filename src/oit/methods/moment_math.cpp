@@ -413,6 +413,9 @@ F trigAbsorbanceFromRoots(const Cx<F>* B, Cx<F> w, int n, const Cx<F>* roots, fl
   return absorbance;
 }
 
+// A fragment's k-th trigonometric moment (k ≥ 1) from its stored reals, pulled towards 0.
+Cf biasedTrigMoment(const float* b, int k, float bias) { return Cf{b[2 * (k - 1)], b[2 * (k - 1) + 1]} * (1.0f - bias); }
+
 // The polynomial Σ conj(c_k)·x^k whose roots complexRoots finds.
 void conjugatePolynomial(const Cf* c, int n, std::complex<double>* polynomial) {
   for (int k = 0; k <= n; ++k) polynomial[k] = {double(c[k].x), -double(c[k].y)};
@@ -423,7 +426,7 @@ void conjugatePolynomial(const Cf* c, int n, std::complex<double>* polynomial) {
 float trigMomentAbsorbance(int count, const float* b, float z, float bias, float overestimation, const WrappingZone& zone,
                            bool* fellBack) {
   Cf B[5], c[5];
-  for (int k = 1; k <= count; ++k) B[k] = Cf{b[2 * (k - 1)], b[2 * (k - 1) + 1]} * (1.0f - bias);
+  for (int k = 1; k <= count; ++k) B[k] = biasedTrigMoment(b, k, bias);
   const Cf w = unitCirclePoint(z, zone);
   bool ok = trigProblem(count, w, B, c);
   float absorbance = overestimation;
@@ -452,7 +455,7 @@ void trigMomentAbsorbanceBatch(int count, const float* b, const float* z, int n,
       const Cf point = unitCirclePoint(z[j], zone);
       w.x[l] = point.x, w.y[l] = point.y;
       for (int k = 1; k <= count; ++k) {
-        const Cf moment = Cf{b[size_t(j) * reals + 2 * (k - 1)], b[size_t(j) * reals + 2 * (k - 1) + 1]} * (1.0f - bias);
+        const Cf moment = biasedTrigMoment(b + size_t(j) * reals, k, bias);
         B[k].x[l] = moment.x, B[k].y[l] = moment.y;
       }
     }
