@@ -50,16 +50,29 @@ void setupChunk(const Geometry& geometry, const SetupContext& context, const Til
 void layoutBins(const TileGrid& grid, BinnedTriangles& bins);
 void scatterChunk(size_t chunk, const TileGrid& grid, BinnedTriangles& bins);
 
-// Runs setup over every triangle of `geometry` and bins the results into `bins`.
+// Runs setup over every triangle of each draw's geometry and bins the results into its bins
+// (bins[d] for geometries[d]): the chunks of every draw in one parallel loop, then the scatters
+// likewise. A draw of fewer than kSetupChunk triangles is one chunk, so set up draw by draw, a
+// frame of many small objects ran its setup on one thread while the others waited.
 // `parallelFor(n, body)` must call body(i) once for each i in [0, n), on any thread.
 template <typename ParallelFor>
-void setupAndBin(const Geometry& geometry, const SetupContext& context, const TileGrid& grid, BinnedTriangles& bins,
-                 ParallelFor&& parallelFor) {
-  const size_t chunkCount = (geometry.triangleCount() + kSetupChunk - 1) / kSetupChunk;
-  bins.chunks.resize(chunkCount);
-  parallelFor(chunkCount, [&](size_t c) { setupChunk(geometry, context, grid, c, bins.chunks[c]); });
-  layoutBins(grid, bins);
-  parallelFor(chunkCount, [&](size_t c) { scatterChunk(c, grid, bins); });
+void setupAndBin(const std::vector<const Geometry*>& geometries, const SetupContext& context, const TileGrid& grid,
+                 BinnedTriangles* bins, ParallelFor&& parallelFor) {
+  struct Item {
+    uint32_t draw, chunk;
+  };
+  std::vector<Item> items;
+  for (size_t d = 0; d < geometries.size(); ++d) {
+    const size_t chunkCount = (geometries[d]->triangleCount() + kSetupChunk - 1) / kSetupChunk;
+    bins[d].chunks.resize(chunkCount);
+    for (size_t c = 0; c < chunkCount; ++c) items.push_back({uint32_t(d), uint32_t(c)});
+  }
+  parallelFor(items.size(), [&](size_t i) {
+    const Item it = items[i];
+    setupChunk(*geometries[it.draw], context, grid, it.chunk, bins[it.draw].chunks[it.chunk]);
+  });
+  for (size_t d = 0; d < geometries.size(); ++d) layoutBins(grid, bins[d]);
+  parallelFor(items.size(), [&](size_t i) { scatterChunk(items[i].chunk, grid, bins[items[i].draw]); });
 }
 
 }  // namespace oitref::detail

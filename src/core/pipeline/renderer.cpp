@@ -267,14 +267,16 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
   auto t0 = std::chrono::steady_clock::now();
   std::vector<detail::BinnedTriangles>& bins = arena_->bins;
   if (bins.size() < draws.size()) bins.resize(draws.size());
+  std::vector<const Geometry*> geometries;
+  for (const DrawCall& d : draws) geometries.push_back(d.geometry);
   arena_->execute([&] {
-    for (size_t d = 0; d < draws.size(); ++d) {
-      stats.trianglesSubmitted += draws[d].geometry->triangleCount();
-      detail::setupAndBin(*draws[d].geometry, context, grid, bins[d], [](size_t n, auto&& body) { workerParallelFor(n, body); });
-      stats.trianglesRasterized += bins[d].counters.rasterized;
-      stats.trianglesNonFinite += bins[d].counters.nonFinite;
-    }
+    detail::setupAndBin(geometries, context, grid, bins.data(), [](size_t n, auto&& body) { workerParallelFor(n, body); });
   });
+  for (size_t d = 0; d < draws.size(); ++d) {
+    stats.trianglesSubmitted += draws[d].geometry->triangleCount();
+    stats.trianglesRasterized += bins[d].counters.rasterized;
+    stats.trianglesNonFinite += bins[d].counters.nonFinite;
+  }
   stats.setupMs = msSince(t0);
   double clipError = 0.0;
   for (size_t d = 0; d < draws.size(); ++d) clipError = std::max(clipError, bins[d].counters.clipErrorPixels);
