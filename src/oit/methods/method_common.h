@@ -113,7 +113,8 @@ void accumulateWeightedBatch(PassRunner& run, FrameTargets& targets, Image& accu
                              float w[kShaderBatch];
                              weights(in, colors, w);
                              for (int i = 0; i < in.count; ++i) {
-                               const glm::vec4& c = colors[i];
+                               const glm::vec4 c = colors[i];  // a copy: `out` may alias `colors`, and
+                                                               // each write made GCC load c again
                                out.writeColor(i, 0, premultiplied(c, w[i]));  // (c.rgb·α·w, α·w)
                                out.writeColor(i, 1, glm::vec4(c.a));
                              }
