@@ -76,8 +76,9 @@ TEST_CASE("blend: kernels compiled for the methods' blend states give the genera
 // TargetBlender::blendBatch runs eight lanes at a time — the llvmpipe float model (two rgba, four
 // rg or eight r pixels per call; AVX2), the exact float kernels (two rgba, four rg or eight r
 // pixels), the exact and llvmpipe-UNORM fast kernels of RGBA8 (two pixels) —
-// with the pixels left over one at a time: every batch size (past the llvmpipe model's chunk of
-// 64 too), the methods' states (compiled kernels) and random states (the general functions),
+// with the pixels after the last whole group as a padded group (the float kernels) or one at a
+// time: every batch size (past the llvmpipe model's chunk of 64 too, the padded group joining
+// a first or a later chunk), the methods' states (compiled kernels) and random states (the general functions),
 // against the per-fragment general kernel. blendRun, the same pixels as one run of consecutive
 // texels (a group's texels loaded and stored at once), against it too.
 TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "[blend]") {
@@ -104,7 +105,7 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
           for (int k = 0; k < 4; ++k) constant[k] = interesting(rng);
           const detail::TargetBlender batch(f, state, constant, p, true, smallFloatBound);
           const detail::TargetBlender single(f, state, constant, p, false, smallFloatBound);
-          for (int n : {1, 2, 3, 7, 8, 9, 17, 70}) {
+          for (int n : {1, 2, 3, 7, 8, 9, 17, 70, 71, 135}) {
             std::vector<glm::vec4> sources(static_cast<size_t>(n));
             std::vector<uint8_t> batched(size_t(n * bytes)), expected;
             for (glm::vec4& s : sources)
@@ -135,7 +136,7 @@ TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "
           }
         }
   }
-  CHECK(compared == 9 * 6 * int(states.size()) * 2 * 8);
+  CHECK(compared == 9 * 6 * int(states.size()) * 2 * 10);
 }
 
 // llvmpipe's UNORM8 integer blend has two compiled batches per method state: the build's ISA (one

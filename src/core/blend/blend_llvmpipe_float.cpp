@@ -131,24 +131,28 @@ struct ShapeFromPlan {
   LP_INLINE static LlvmpipeFloatPlan of(const LlvmpipeFloatPlan& plan) { return plan; }
 };
 
-// Pixels [begin, end) (whole groups) blended with the rare lanes deferred into `special`, their
-// destinations' lanes kept in `loaded`. Out of line, so that where the MXCSR flushes
-// (HardwareFlush) the call keeps the arithmetic between the guard's two writes of the MXCSR.
-template <int Channels, typename ShapeOf, bool HardwareFlush, typename Pixels>
+// Pixels [begin, end) (whole groups), then the padded group `tail` where there is one, blended
+// with the rare lanes deferred into `special`, their destinations' lanes kept in `loaded`. Out of
+// line, so that where the MXCSR flushes (HardwareFlush) the call keeps the arithmetic between the
+// guard's two writes of the MXCSR.
+template <int Channels, typename ShapeOf, bool HardwareFlush, typename Pixels, typename Tail>
 [[gnu::noinline]] LP_AVX2 void blendChunk(const LlvmpipeFloatPlan& planGiven, const Lanes8& constants,
-                                          const Pixels& pixels, int begin, int end, v8f* loaded,
+                                          const Pixels& pixels, int begin, int end, const Tail* tail, v8f* loaded,
                                           IntLanesOf<v8f>* special, Rounding fp16) {
   constexpr int P = 8 / Channels;
   const LlvmpipeFloatPlan plan = ShapeOf::of(planGiven);
   Lanes8 lanes = constants;
   IntLanesOf<v8f> rare{};  // in a register: through the pointer, every operation read and wrote memory
-  for (int i = begin, g = 0; i < end; i += P, g += 2) {
-    pixels.loadDestinations(i, lanes.destination, lanes.destinationAlpha);
-    loaded[g] = lanes.destination, loaded[g + 1] = lanes.destinationAlpha;
-    pixels.loadSources(i, lanes.source, lanes.sourceAlpha);
-    if constexpr (ShapeOf::kKnown) pixels.store(i, runLanes(plan, lanes, &rare, HardwareFlush), fp16);
-    else pixels.store(i, runLanesOutOfLine(plan, lanes, &rare, HardwareFlush), fp16);
-  }
+  auto group = [&](const auto& px, int i, v8f* kept) __attribute__((always_inline)) {
+    px.loadDestinations(i, lanes.destination, lanes.destinationAlpha);
+    kept[0] = lanes.destination, kept[1] = lanes.destinationAlpha;
+    px.loadSources(i, lanes.source, lanes.sourceAlpha);
+    if constexpr (ShapeOf::kKnown) px.store(i, runLanes(plan, lanes, &rare, HardwareFlush), fp16);
+    else px.store(i, runLanesOutOfLine(plan, lanes, &rare, HardwareFlush), fp16);
+  };
+  int g = 0;
+  for (int i = begin; i < end; i += P, g += 2) group(pixels, i, loaded + g);
+  if (tail) group(*tail, 0, loaded + g);
   *special = rare;
 }
 
@@ -159,10 +163,12 @@ template <int Channels, typename ShapeOf, bool HardwareFlush, typename Pixels>
 // same bits either way. Where the profile flushes denormals, the chunk runs in llvmpipe's own
 // MXCSR mode (FlushInHardware) where it can: the flushes cost nothing then, and only NaN lanes are
 // rare (their payloads follow x86Nan's rule, which does not depend on the compiler's operand order).
+// The pixels after the last whole group go with the last chunk as a padded group (PaddedGroup).
 template <int Channels, bool Half, typename ShapeOf, typename Pixels>
 LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const Pixels& pixels, int n,
                           Rounding fp16) {
   constexpr int P = 8 / Channels, kChunk = 64;
+  if (n <= 0) return 0;
   Lanes8 lanes;
   const v4f c = load4(constant);
   v4f cs[P];
@@ -177,26 +183,34 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
   // build time.
   if constexpr (ShapeOf::kKnown)
     if (plan.flushDenormals && !hardware) return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, pixels, n, fp16);
-  for (int chunk = 0; chunk < whole; chunk += kChunk) {
+  using Tail = RunTexelLanes<Channels, Half>;
+  PaddedGroup<Channels, Half> padded(pixels, whole, n - whole);  // filled only where n - whole > 0
+  for (int chunk = 0; chunk < n; chunk += kChunk) {
     const int end = chunk + kChunk < whole ? chunk + kChunk : whole;
-    v8f loaded[2 * kChunk / P];  // each group's destination lanes and their alphas
+    const Tail tailLanes = padded.lanes();
+    const Tail* tail = end == whole && whole < n ? &tailLanes : nullptr;
+    v8f loaded[2 * kChunk / P + 2];  // each group's destination lanes and their alphas
     IntLanesOf<v8f> special{};
     bool done = false;
 #if defined(__x86_64__)
     if (hardware) {
       const FlushInHardware mode(plan.callerMxcsr);
-      blendChunk<Channels, ShapeOf, true>(plan, lanes, pixels, chunk, end, loaded, &special, fp16);
+      blendChunk<Channels, ShapeOf, true>(plan, lanes, pixels, chunk, end, tail, loaded, &special, fp16);
       done = true;
     }
 #endif
-    if (!done) blendChunk<Channels, ShapeOf, ShapeOf::kKnown>(plan, lanes, pixels, chunk, end, loaded, &special, fp16);
+    if (!done) blendChunk<Channels, ShapeOf, ShapeOf::kKnown>(plan, lanes, pixels, chunk, end, tail, loaded, &special, fp16);
     if (Arith<v8f>::any(special)) {
       blendAgainWithRules(ShapeOf::of(plan), lanes.constant, lanes.constantAlpha, pixels.from(chunk), loaded,
                           end - chunk, fp16);
+      if (tail) blendAgainWithRules(ShapeOf::of(plan), lanes.constant, lanes.constantAlpha, *tail,
+                                    loaded + 2 * (end - chunk) / P, P, fp16);
     }
+    if (end == whole) break;
   }
+  if (whole < n) padded.writeBack(pixels, whole, n - whole);
   (void)hardware;
-  return whole;
+  return n;
 }
 template <int Channels, bool Half>
 LP_AVX2 int generalTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& constant, const glm::vec4* const* sources,

@@ -65,8 +65,8 @@ using LlvmpipeFloatBlendFn = v4f (*)(const LlvmpipeFloatPlan&, v4f constant, v4f
 // the channels of 8 / channels pixels side by side (rgba: two pixels, rg: four, r: eight), each
 // lane's pixel's alphas beside them, lane for lane the bits of LlvmpipeFloatBlendFn on each pixel,
 // and the results converted as encodeTexel does (fp16 rounded as `fp16`). Blends *sources[i]
-// into texels[i] for the first whole groups of pixels of [0, n) and returns how many pixels that
-// was; the caller blends the rest one at a time. Compiled for AVX2, with the loop inside, so that
+// into texels[i] for every i in [0, n), the pixels after the last whole group as one padded group
+// (PaddedGroup), and returns n. Compiled for AVX2, with the loop inside, so that
 // nothing crosses a call per group; `constant` travels by reference (between code built with
 // and without AVX, a 32-byte vector passed by value would not be where the other side looks).
 using LlvmpipeFloatTexelsFn = int (*)(const LlvmpipeFloatPlan& plan, const glm::vec4& constant,

@@ -91,6 +91,8 @@ struct ScatteredTexelLanes {
   const glm::vec4* const* sources;
   uint8_t* const* texels;
   ScatteredTexelLanes from(int i) const { return {sources + i, texels + i}; }  // pixels [i, …)
+  const glm::vec4& source(int i) const { return *sources[i]; }
+  uint8_t* texel(int i) const { return texels[i]; }
   [[gnu::always_inline]] inline void loadSources(int i, v8f& values, v8f& alphas) const {
     v4f s[P];
     for (int p = 0; p < P; ++p) s[p] = load4(*sources[i + p]);
@@ -116,6 +118,8 @@ struct RunTexelLanes {
   const glm::vec4* sources;
   uint8_t* texels;
   RunTexelLanes from(int i) const { return {sources + i, texels + size_t(i) * kTexelBytes}; }
+  const glm::vec4& source(int i) const { return sources[i]; }
+  uint8_t* texel(int i) const { return texels + size_t(i) * kTexelBytes; }
   [[gnu::always_inline]] inline void loadSources(int i, v8f& values, v8f& alphas) const {
     if constexpr (Channels == 4) {  // two pixels' vec4s are the lanes already
       std::memcpy(&values, sources + i, sizeof values);
@@ -145,6 +149,33 @@ struct RunTexelLanes {
   }
   [[gnu::always_inline]] inline void store(int i, v8f r, Rounding fp16) const {
     encodeLanes<Half>(r, fp16, texels + size_t(i) * kTexelBytes);
+  }
+};
+
+// The last n < P pixels of a batch (from `first` on) as one whole group of local texels, so that
+// they take the eight-lane blend too instead of one pixel at a time (a span's last 0 to 7
+// pixels of a one-channel target: about an eighth of its pixels). The missing lanes repeat the
+// last pixel; a lane's bits do not depend on the others', and those lanes are not written back.
+// With n = 0 it holds nothing.
+template <int Channels, bool Half>
+struct PaddedGroup {
+  static constexpr int P = 8 / Channels;
+  static constexpr size_t kTexelBytes = (Half ? 2 : 4) * Channels;
+  glm::vec4 sources[P];
+  alignas(32) uint8_t texels[P * kTexelBytes];
+
+  template <typename Pixels>
+  PaddedGroup(const Pixels& pixels, int first, int n) {
+    for (int p = 0; n > 0 && p < P; ++p) {
+      const int i = first + (p < n ? p : n - 1);
+      sources[p] = pixels.source(i);
+      std::memcpy(texels + p * kTexelBytes, pixels.texel(i), kTexelBytes);
+    }
+  }
+  RunTexelLanes<Channels, Half> lanes() { return {sources, texels}; }
+  template <typename Pixels>
+  void writeBack(const Pixels& pixels, int first, int n) const {
+    for (int p = 0; p < n; ++p) std::memcpy(pixels.texel(first + p), texels + p * kTexelBytes, kTexelBytes);
   }
 };
 

@@ -166,22 +166,26 @@ void maxInCodes(UnormRounding rounding, const Pixels& pixels, int n) {
 
 // A float target of one or two channels (no alpha), 8 / Channels pixels at a time in eight
 // lanes (blendChannelLanes), where the two-pixel loop of fastPixels fills only two or four of
-// them: pixels [0, returned) blended, the rest left to the caller.
+// them; the pixels after the last whole group as one padded group (PaddedGroup).
 template <int Channels, bool Half, typename Pixels>
-[[gnu::always_inline]] inline int blendChannelGroups(const CompiledBlend& cb, v4f constant, const Pixels& pixels, int n,
-                                                      Rounding fp16) {
+[[gnu::always_inline]] inline void blendChannelGroups(const CompiledBlend& cb, v4f constant, const Pixels& pixels, int n,
+                                                       Rounding fp16) {
   using Lanes = std::conditional_t<std::is_same_v<Pixels, PixelPointers>, ScatteredTexelLanes<Channels, Half>,
                                    RunTexelLanes<Channels, Half>>;
   const Lanes lanes{pixels.sources, pixels.texels};
   constexpr int P = 8 / Channels;
-  int i = 0;
-  for (; i + P <= n; i += P) {
+  auto group = [&](const auto& px, int i) __attribute__((always_inline)) {
     v8f s, sa, d, da;
-    lanes.loadSources(i, s, sa);
-    lanes.loadDestinations(i, d, da);
-    lanes.store(i, blendChannelLanes<Channels>(cb, s, sa, d, constant), fp16);
-  }
-  return i;
+    px.loadSources(i, s, sa);
+    px.loadDestinations(i, d, da);
+    px.store(i, blendChannelLanes<Channels>(cb, s, sa, d, constant), fp16);
+  };
+  int i = 0;
+  for (; i + P <= n; i += P) group(lanes, i);
+  if (i == n) return;
+  PaddedGroup<Channels, Half> padded(lanes, i, n - i);
+  group(padded.lanes(), 0);
+  padded.writeBack(lanes, i, n - i);
 }
 
 }  // namespace
@@ -473,8 +477,8 @@ void TargetBlender::llvmpipeFloatTexelKernel(const TargetBlender& b, const glm::
   }
 }
 
-// llvmpipeFloatTexelKernel over a batch: whole groups of 8 / Channels pixels in the eight-lane
-// kernel chosen per draw (AVX2), the pixels left over one at a time. Lane for lane the same
+// llvmpipeFloatTexelKernel over a batch: groups of 8 / Channels pixels in the eight-lane kernel
+// chosen per draw (AVX2; it blends them all), else one pixel at a time. Lane for lane the same
 // operations, so the same bits.
 template <int Channels, bool Half>
 void TargetBlender::llvmpipeFloatTexelBatch(const TargetBlender& b, const glm::vec4* const* sources,
@@ -538,11 +542,13 @@ void TargetBlender::fastPixels(const TargetBlender& b, const Pixels& pixels, int
     maxInCodes<Channels>(b.profile_.unorm, pixels, n);
     return;
   }
-  int i = 0;
   constexpr bool kFloat = std::is_same_v<Texels, Float32Texels> || std::is_same_v<Texels, HalfTexels>;
-  if constexpr (kFloat && Channels < 4)
-    i = blendChannelGroups<Channels, std::is_same_v<Texels, HalfTexels>>(compiledBlend<State>(b), load4(b.constant_), pixels, n,
-                                                                        b.profile_.fp16);
+  if constexpr (kFloat && Channels < 4) {
+    blendChannelGroups<Channels, std::is_same_v<Texels, HalfTexels>>(compiledBlend<State>(b), load4(b.constant_), pixels, n,
+                                                                     b.profile_.fp16);
+    return;
+  }
+  int i = 0;
   {
     const v8f constant = twoPixels(load4(b.constant_), load4(b.constant_));
     for (; i + 2 <= n; i += 2) {
