@@ -180,6 +180,9 @@ class FragmentBatchOutput {
   // writeColor, then markWritten once for all of them. The same outputs as write() for each; the
   // states' or runs in vector lanes instead of one load and store per fragment and target.
   void writeColor(int i, int target, const glm::vec4& color) { color_[target][i] = color; }
+  // Target t's colours as one array (fragment i's at [i]), for such a shader that writes several
+  // fragments' colours at once (vector lanes); then markWritten as after writeColor.
+  glm::vec4* colorRow(int target) { return color_[target]; }
   void markWritten(int count, unsigned targets) {
     for (int i = 0; i < count; ++i) state_[i] = uint16_t(state_[i] | (targets & kWrittenMask));
   }
