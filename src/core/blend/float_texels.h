@@ -124,6 +124,17 @@ struct RunTexelLanes {
     if constexpr (Channels == 4) {  // two pixels' vec4s are the lanes already
       std::memcpy(&values, sources + i, sizeof values);
       alphas = __builtin_shufflevector(values, values, 3, 3, 3, 3, 7, 7, 7, 7);
+    } else if constexpr (Channels == 1) {
+      // Eight pixels' vec4s as four pairs, their r and a picked out by shuffles within the
+      // halves, then put in pixel order: gatherLanes's lanes with four loads instead of eight.
+      // (Four named vectors: loaded into an array, GCC copied them through the stack first.)
+      v8f p01, p23, p45, p67;
+      std::memcpy(&p01, sources + i, sizeof p01), std::memcpy(&p23, sources + i + 2, sizeof p23);
+      std::memcpy(&p45, sources + i + 4, sizeof p45), std::memcpy(&p67, sources + i + 6, sizeof p67);
+      const v8f ra01 = __builtin_shufflevector(p01, p23, 0, 3, 8, 11, 4, 7, 12, 15);  // r0 a0 r2 a2 | r1 a1 r3 a3
+      const v8f ra23 = __builtin_shufflevector(p45, p67, 0, 3, 8, 11, 4, 7, 12, 15);  // r4 a4 r6 a6 | r5 a5 r7 a7
+      values = __builtin_shufflevector(ra01, ra23, 0, 4, 2, 6, 8, 12, 10, 14);
+      alphas = __builtin_shufflevector(ra01, ra23, 1, 5, 3, 7, 9, 13, 11, 15);
     } else {
       v4f s[P];
       for (int p = 0; p < P; ++p) s[p] = load4(sources[i + p]);
