@@ -134,25 +134,27 @@ struct ShapeFromPlan {
 // Pixels [begin, end) (whole groups), then the padded group `tail` where there is one, blended
 // with the rare lanes deferred into `special`, their destinations' lanes kept in `loaded`. Out of
 // line, so that where the MXCSR flushes (HardwareFlush) the call keeps the arithmetic between the
-// guard's two writes of the MXCSR.
-template <int Channels, typename ShapeOf, bool HardwareFlush, typename Pixels, typename Tail>
+// guard's two writes of the MXCSR. One loop body for both (the group's pixels chosen per group):
+// the blend inlined once.
+template <int Channels, typename ShapeOf, bool HardwareFlush, typename Pixels>
 [[gnu::noinline]] LP_AVX2 void blendChunk(const LlvmpipeFloatPlan& planGiven, const Lanes8& constants,
-                                          const Pixels& pixels, int begin, int end, const Tail* tail, v8f* loaded,
+                                          const Pixels& pixels, int begin, int end, const Pixels* tail, v8f* loaded,
                                           IntLanesOf<v8f>* special, Rounding fp16) {
   constexpr int P = 8 / Channels;
   const LlvmpipeFloatPlan plan = ShapeOf::of(planGiven);
   Lanes8 lanes = constants;
   IntLanesOf<v8f> rare{};  // in a register: through the pointer, every operation read and wrote memory
-  auto group = [&](const auto& px, int i, v8f* kept) __attribute__((always_inline)) {
+  const int groups = (end - begin) / P + (tail ? 1 : 0);
+  for (int k = 0, g = 0; k < groups; ++k, g += 2) {
+    const bool padded = tail && k == groups - 1;
+    const Pixels& px = padded ? *tail : pixels;
+    const int i = padded ? 0 : begin + k * P;
     px.loadDestinations(i, lanes.destination, lanes.destinationAlpha);
-    kept[0] = lanes.destination, kept[1] = lanes.destinationAlpha;
+    loaded[g] = lanes.destination, loaded[g + 1] = lanes.destinationAlpha;
     px.loadSources(i, lanes.source, lanes.sourceAlpha);
     if constexpr (ShapeOf::kKnown) px.store(i, runLanes(plan, lanes, &rare, HardwareFlush), fp16);
     else px.store(i, runLanesOutOfLine(plan, lanes, &rare, HardwareFlush), fp16);
-  };
-  int g = 0;
-  for (int i = begin; i < end; i += P, g += 2) group(pixels, i, loaded + g);
-  if (tail) group(*tail, 0, loaded + g);
+  }
   *special = rare;
 }
 
@@ -183,12 +185,11 @@ LP_INLINE int blendTexels(const LlvmpipeFloatPlan& plan, const glm::vec4& consta
   // build time.
   if constexpr (ShapeOf::kKnown)
     if (plan.flushDenormals && !hardware) return blendTexels<Channels, Half, ShapeFromPlan>(plan, constant, pixels, n, fp16);
-  using Tail = RunTexelLanes<Channels, Half>;
-  PaddedGroup<Channels, Half> padded(pixels, whole, n - whole);  // filled only where n - whole > 0
+  const PaddedGroup<Channels, Half, Pixels> padded(pixels, whole, n - whole);  // filled only where n - whole > 0
+  const Pixels tailLanes = padded.lanes();
   for (int chunk = 0; chunk < n; chunk += kChunk) {
     const int end = chunk + kChunk < whole ? chunk + kChunk : whole;
-    const Tail tailLanes = padded.lanes();
-    const Tail* tail = end == whole && whole < n ? &tailLanes : nullptr;
+    const Pixels* tail = end == whole && whole < n ? &tailLanes : nullptr;
     v8f loaded[2 * kChunk / P + 2];  // each group's destination lanes and their alphas
     IntLanesOf<v8f> special{};
     bool done = false;

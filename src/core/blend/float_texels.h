@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include "blend/blend_math.h"
 #include "format/fp16_inline.h"
@@ -167,27 +168,40 @@ struct RunTexelLanes {
 // they take the eight-lane blend too instead of one pixel at a time (a span's last 0 to 7
 // pixels of a one-channel target: about an eighth of its pixels). The missing lanes repeat the
 // last pixel; a lane's bits do not depend on the others', and those lanes are not written back.
-// With n = 0 it holds nothing.
-template <int Channels, bool Half>
-struct PaddedGroup {
+// lanes() views it as the batch's own Pixels type (ScatteredTexelLanes or RunTexelLanes), so that
+// a kernel blends it with the same code as every other group: a second type inlined the whole
+// blend a second time into every kernel (twice the compile time). With n = 0 it holds nothing.
+template <int Channels, bool Half, typename Pixels>
+class PaddedGroup {
+ public:
   static constexpr int P = 8 / Channels;
   static constexpr size_t kTexelBytes = (Half ? 2 : 4) * Channels;
-  glm::vec4 sources[P];
-  alignas(32) uint8_t texels[P * kTexelBytes];
 
-  template <typename Pixels>
   PaddedGroup(const Pixels& pixels, int first, int n) {
     for (int p = 0; n > 0 && p < P; ++p) {
       const int i = first + (p < n ? p : n - 1);
-      sources[p] = pixels.source(i);
-      std::memcpy(texels + p * kTexelBytes, pixels.texel(i), kTexelBytes);
+      sources_[p] = pixels.source(i);
+      std::memcpy(texels_ + p * kTexelBytes, pixels.texel(i), kTexelBytes);
+      if constexpr (kScattered) sourcePointers_[p] = &sources_[p], texelPointers_[p] = texels_ + p * kTexelBytes;
     }
   }
-  RunTexelLanes<Channels, Half> lanes() { return {sources, texels}; }
-  template <typename Pixels>
-  void writeBack(const Pixels& pixels, int first, int n) const {
-    for (int p = 0; p < n; ++p) std::memcpy(pixels.texel(first + p), texels + p * kTexelBytes, kTexelBytes);
+  PaddedGroup(const PaddedGroup&) = delete;  // lanes() points into it
+  PaddedGroup& operator=(const PaddedGroup&) = delete;
+
+  Pixels lanes() const {
+    if constexpr (kScattered) return {sourcePointers_, texelPointers_};
+    else return {sources_, const_cast<uint8_t*>(texels_)};
   }
+  void writeBack(const Pixels& pixels, int first, int n) const {
+    for (int p = 0; p < n; ++p) std::memcpy(pixels.texel(first + p), texels_ + p * kTexelBytes, kTexelBytes);
+  }
+
+ private:
+  static constexpr bool kScattered = std::is_same_v<Pixels, ScatteredTexelLanes<Channels, Half>>;
+  glm::vec4 sources_[P];
+  alignas(32) uint8_t texels_[P * kTexelBytes];
+  const glm::vec4* sourcePointers_[kScattered ? P : 1];
+  uint8_t* texelPointers_[kScattered ? P : 1];
 };
 
 }  // namespace oitref::detail

@@ -174,18 +174,19 @@ template <int Channels, bool Half, typename Pixels>
                                    RunTexelLanes<Channels, Half>>;
   const Lanes lanes{pixels.sources, pixels.texels};
   constexpr int P = 8 / Channels;
-  auto group = [&](const auto& px, int i) __attribute__((always_inline)) {
+  const int whole = n - n % P;
+  const PaddedGroup<Channels, Half, Lanes> padded(lanes, whole, n - whole);
+  const Lanes tail = padded.lanes();
+  for (int i = 0; i < n; i += P) {  // one loop body for both (the blend inlined once)
+    const bool last = i == whole;
+    const Lanes& px = last ? tail : lanes;
+    const int at = last ? 0 : i;
     v8f s, sa, d, da;
-    px.loadSources(i, s, sa);
-    px.loadDestinations(i, d, da);
-    px.store(i, blendChannelLanes<Channels>(cb, s, sa, d, constant), fp16);
-  };
-  int i = 0;
-  for (; i + P <= n; i += P) group(lanes, i);
-  if (i == n) return;
-  PaddedGroup<Channels, Half> padded(lanes, i, n - i);
-  group(padded.lanes(), 0);
-  padded.writeBack(lanes, i, n - i);
+    px.loadSources(at, s, sa);
+    px.loadDestinations(at, d, da);
+    px.store(at, blendChannelLanes<Channels>(cb, s, sa, d, constant), fp16);
+  }
+  if (whole < n) padded.writeBack(lanes, whole, n - whole);
 }
 
 }  // namespace
