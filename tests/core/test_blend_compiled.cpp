@@ -77,9 +77,9 @@ TEST_CASE("blend: kernels compiled for the methods' blend states give the genera
 // rg or eight r pixels per call; AVX2), the exact float kernels (two rgba, four rg or eight r
 // pixels), the exact and llvmpipe-UNORM fast kernels of RGBA8 (two pixels) —
 // with the pixels after the last whole group as a padded group (the float kernels) or one at a
-// time: every batch size (past the llvmpipe model's chunk of 64 too, the padded group joining
-// a first or a later chunk), the methods' states (compiled kernels) and random states (the general functions),
-// against the per-fragment general kernel. blendRun, the same pixels as one run of consecutive
+// time: every batch size (past the llvmpipe model's chunk of 64 too, the padded group joining a
+// first or a later chunk), the methods' states (compiled kernels) and random states (the general
+// functions), against the per-fragment general kernel. blendRun, the same pixels as one run of consecutive
 // texels (a group's texels loaded and stored at once), against it too.
 TEST_CASE("blend: batches of eight lanes give the per-fragment kernel's bits", "[blend]") {
   test::BitStream rng(77);
