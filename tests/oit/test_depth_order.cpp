@@ -133,10 +133,11 @@ TEST_CASE("depth order: the AVX-512 window sorts every list within its reach and
   }
   // Distinct view depths (ties are DepthOrder's to order afterwards), so that the expected order is
   // the stable one; lists displaced by up to 60 places, some within the window's reach (no
-  // fragment with more than 32 larger ones before it) and some not.
+  // fragment with more than 32 larger ones before it) and some not; lengths whose last block holds
+  // one or two registers of keys (33, 40, 41, 48, 71, 100, 300) take mergeWithShortBlock.
   test::BitStream rng(14);
   int within = 0, refused = 0;
-  for (uint32_t n : {1u, 2u, 8u, 9u, 31u, 32u, 33u, 63u, 64u, 65u, 100u, 300u})
+  for (uint32_t n : {1u, 2u, 8u, 9u, 31u, 32u, 33u, 40u, 41u, 48u, 49u, 63u, 64u, 65u, 71u, 100u, 300u})
     for (int displacement : {1, 7, 16, 24, 31, 40, 60, -1}) {
       std::vector<TransparentFragment> list = makeList(rng, n, 1000000, displacement);
       for (uint32_t i = 0; i < n; ++i) list[i].viewDepth += float(i) * 0x1p-4f;  // distinct

@@ -15,6 +15,10 @@
 #include <stdexcept>
 #include <utility>
 
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
 #include "methods/depth_order.h"
 #include "methods/fragment_bound.h"
 #include "methods/method_common.h"
@@ -67,9 +71,15 @@ class FloatLanesOver {
   explicit FloatLanesOver(const glm::vec3 background[2])
       : c_{background[0].x, background[0].y, background[0].z, 0.0f, background[1].x, background[1].y, background[1].z, 0.0f} {}
   void layer(const glm::vec4& color) {
+#if defined(__AVX__)
+    // Loads that broadcast: no shuffle (the pair's layers were bound by the shuffle units).
+    const v8 both = v8(_mm256_broadcast_ps(reinterpret_cast<const __m128*>(&color))), alpha = v8(_mm256_broadcast_ss(&color.a));
+#else
     v4 c;
     std::memcpy(&c, &color, sizeof c);
-    const v8 both = __builtin_shufflevector(c, c, 0, 1, 2, 3, 0, 1, 2, 3), alpha = v8{} + color.a;
+    const float a = color.a;
+    const v8 both = __builtin_shufflevector(c, c, 0, 1, 2, 3, 0, 1, 2, 3), alpha = {a, a, a, a, a, a, a, a};
+#endif
     c_ = over<v8, float>(both, alpha, c_);
   }
   void finish(glm::vec3 result[2]) const {

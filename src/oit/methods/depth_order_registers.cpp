@@ -121,6 +121,26 @@ template <int B>
       }
   for (int j = 0; j < B; ++j) r[j] = cleanRegister(r[j]);
 }
+// mergeHalves<2M> for a last block of K < M registers (r[M, M + K)): the registers above them,
+// r[M + K, 2M), would hold only the all-ones keys past the list's end, which no comparator moves
+// (each pairs them with themselves or with a key that stays below), so the comparators that
+// touch them are left out, and they are never written.
+template <int M, int K>
+[[OITREF_AVX512]] inline void mergeWithShortBlock(Keys8* r) {
+  constexpr int B = 2 * M, real = M + K;
+  for (int j = 0; j < M; ++j) {
+    if (B - 1 - j >= real) continue;
+    const Keys8 rb = reversed(r[B - 1 - j]), lo = smaller(r[j], rb), hi = larger(r[j], rb);
+    r[j] = lo, r[B - 1 - j] = reversed(hi);
+  }
+  for (int D = B / 4; D >= 1; D /= 2)
+    for (int j = 0; j < B; ++j)
+      if ((j & D) == 0 && j + D < real) {
+        const Keys8 lo = smaller(r[j], r[j + D]), hi = larger(r[j], r[j + D]);
+        r[j] = lo, r[j + D] = hi;
+      }
+  for (int j = 0; j < real; ++j) r[j] = cleanRegister(r[j]);
+}
 // Registers r[0, M) sorted as one sequence of 8M keys: each register alone, then blocks of 2, 4 …
 // M registers merged.
 template <int M>
@@ -148,6 +168,18 @@ template <int M>
   last = x;
 }
 
+// orderInWindow's last block when it holds K < M registers of keys (those from `first` on): merged
+// with the window in fewer registers (mergeWithShortBlock), and everything emitted.
+template <int M, int K>
+[[OITREF_AVX512]] inline bool lastShortBlock(const TransparentFragment* list, uint32_t n, uint32_t first, Keys8* r, uint32_t* order,
+                                             Keys8& last, bool& sorted, bool& tie, bool& nan) {
+  for (int j = 0; j < K; ++j) r[M + j] = fragmentKeys(list, first + 8 * j, n, nan);
+  sortRegisters<K>(r + M);
+  mergeWithShortBlock<M, K>(r);
+  for (int j = 0; j < M + K; ++j) emit(r[j], first - 8 * M + 8 * j, n, order, last, sorted, tie);
+  return sorted && !nan;
+}
+
 // The window: the 8M largest keys so far stay in registers, sorted. Each next block of 8M keys,
 // sorted, is merged with them, and the lower 8M are emitted: final if no later key is smaller,
 // which the emitted order's check finds out. A key with at most 8M larger keys before it never
@@ -161,6 +193,12 @@ template <int M>
   for (int j = 0; j < M; ++j) r[j] = fragmentKeys(list, 8 * j, n, nan);
   sortRegisters<M>(r);
   for (uint32_t first = W; first < n; first += W) {
+    if constexpr (M == 4) {
+      // A last block of at most a quarter or half of W keys (dense's lists hold 71 fragments on
+      // average: of a third block of 32, most is past the end).
+      if (n - first <= 8) return lastShortBlock<M, 1>(list, n, first, r, order, last, sorted, tie, nan);
+      if (n - first <= 16) return lastShortBlock<M, 2>(list, n, first, r, order, last, sorted, tie, nan);
+    }
     for (int j = 0; j < M; ++j) r[M + j] = fragmentKeys(list, first + 8 * j, n, nan);
     sortRegisters<M>(r + M);
     mergeHalves<2 * M>(r);
