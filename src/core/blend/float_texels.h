@@ -2,6 +2,7 @@
 // target_blender.cpp and the eight-lane llvmpipe kernels of blend_llvmpipe_float.cpp.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
@@ -79,21 +80,34 @@ template <bool Half>
   }
 }
 
-// Where the pixels of a batch are, for the eight-lane kernels (blend_llvmpipe_float.cpp, and
-// target_blender.cpp's for targets of one or two channels). ScatteredTexelLanes: a pointer per
-// pixel to its source and its texel (any pixels). RunTexelLanes: consecutive texels with the
-// sources side by side (a span whose every fragment blends): a group's texels are one load and
-// one store. Both put group g's (pixels g·P … g·P + P − 1, P = 8 / Channels) sources and
-// destinations into lanes as gatherLanes arranges them, and store its results; the lanes are the
-// same either way.
-template <int Channels, bool Half>
-struct ScatteredTexelLanes {
-  static constexpr int P = 8 / Channels;
+// Where the pixels of a batch are (every fast kernel's loop reads them through one of these): a
+// pointer per pixel to its source and its texel (any pixels), or a run of consecutive texels of
+// Bytes bytes with the sources side by side (a span whose every fragment blends:
+// TargetBlender::blendRun).
+struct PixelPointers {
   const glm::vec4* const* sources;
   uint8_t* const* texels;
-  ScatteredTexelLanes from(int i) const { return {sources + i, texels + i}; }  // pixels [i, …)
   const glm::vec4& source(int i) const { return *sources[i]; }
   uint8_t* texel(int i) const { return texels[i]; }
+};
+template <size_t Bytes>
+struct PixelRun {
+  const glm::vec4* sources;
+  uint8_t* texels;
+  const glm::vec4& source(int i) const { return sources[i]; }
+  uint8_t* texel(int i) const { return texels + size_t(i) * Bytes; }
+};
+
+// The same pixels for the eight-lane kernels of float texels (blend_llvmpipe_float.cpp, and
+// target_blender.cpp's for targets of one or two channels), which take 8 / Channels pixels a
+// group: ScatteredTexelLanes for PixelPointers, RunTexelLanes for a PixelRun, whose group's
+// texels are one load and one store. Both put group g's (pixels g·P … g·P + P − 1, P = 8 /
+// Channels) sources and destinations into lanes as gatherLanes arranges them, and store its
+// results; the lanes are the same either way.
+template <int Channels, bool Half>
+struct ScatteredTexelLanes : PixelPointers {
+  static constexpr int P = 8 / Channels;
+  ScatteredTexelLanes from(int i) const { return {sources + i, texels + i}; }  // pixels [i, …)
   [[gnu::always_inline]] inline void loadSources(int i, v8f& values, v8f& alphas) const {
     v4f s[P];
     for (int p = 0; p < P; ++p) s[p] = load4(*sources[i + p]);
@@ -113,14 +127,12 @@ struct ScatteredTexelLanes {
   }
 };
 template <int Channels, bool Half>
-struct RunTexelLanes {
+struct RunTexelLanes : PixelRun<(Half ? 2 : 4) * Channels> {
   static constexpr int P = 8 / Channels;
   static constexpr size_t kTexelBytes = (Half ? 2 : 4) * Channels;
-  const glm::vec4* sources;
-  uint8_t* texels;
+  using PixelRun<kTexelBytes>::sources;
+  using PixelRun<kTexelBytes>::texels;
   RunTexelLanes from(int i) const { return {sources + i, texels + size_t(i) * kTexelBytes}; }
-  const glm::vec4& source(int i) const { return sources[i]; }
-  uint8_t* texel(int i) const { return texels + size_t(i) * kTexelBytes; }
   [[gnu::always_inline]] inline void loadSources(int i, v8f& values, v8f& alphas) const {
     if constexpr (Channels == 4) {  // two pixels' vec4s are the lanes already
       std::memcpy(&values, sources + i, sizeof values);

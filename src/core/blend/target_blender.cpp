@@ -80,23 +80,6 @@ struct Float32Texels {
   }
 };
 
-// Where the pixels of a batch are (the fast kernels' loop reads them through one of these):
-// a pointer per pixel to its source and its texel, or a run of consecutive texels of Bytes bytes
-// with the sources side by side (TargetBlender::blendRun).
-struct PixelPointers {
-  const glm::vec4* const* sources;
-  uint8_t* const* texels;
-  const glm::vec4& source(int i) const { return *sources[i]; }
-  uint8_t* texel(int i) const { return texels[i]; }
-};
-template <size_t Bytes>
-struct PixelRun {
-  const glm::vec4* sources;
-  uint8_t* texels;
-  const glm::vec4& source(int i) const { return sources[i]; }
-  uint8_t* texel(int i) const { return texels + size_t(i) * Bytes; }
-};
-
 // The conversion alone (blending disabled) into four 8-bit UNORM channels: the rounding rule
 // chosen once for the run, not per pixel, and two pixels' codes narrowed and stored together, four
 // in a run (each pixel's codes are encodeUnorm4's, so the bits of one pixel at a time).
