@@ -150,7 +150,7 @@ bool DepthOrder::laneKeys(int k, const TransparentFragment* list, uint32_t n) {
   bool hasNan = false;
   for (uint32_t i = 0; i < n; ++i) {
     keys.view[8 + i] = list[i].viewDepth, keys.index[8 + i] = i;
-    hasNan |= std::isnan(list[i].viewDepth) | std::isnan(list[i].windowDepth);
+    hasNan |= int(std::isnan(list[i].viewDepth)) | int(std::isnan(list[i].windowDepth));  // no branch per key
   }
   return !hasNan;
 }
