@@ -134,7 +134,7 @@ TEST_CASE("depth order: the AVX-512 window sorts every list within its reach and
   // Distinct view depths (ties are DepthOrder's to order afterwards), so that the expected order is
   // the stable one; lists displaced by up to 60 places, some within the window's reach (no
   // fragment with more than 32 larger ones before it) and some not; lengths whose last block holds
-  // one or two registers of keys (33, 40, 41, 48, 71, 100, 300) take mergeWithShortBlock.
+  // one or two registers of keys (33, 40, 41, 48, 71, 100, 300) take lastShortBlock.
   test::BitStream rng(14);
   int within = 0, refused = 0;
   for (uint32_t n : {1u, 2u, 8u, 9u, 31u, 32u, 33u, 40u, 41u, 48u, 49u, 63u, 64u, 65u, 71u, 100u, 300u})

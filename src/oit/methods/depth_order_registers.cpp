@@ -107,39 +107,24 @@ constexpr int kPrefetchFloats = 2048 / sizeof(float);
 // The last stage of a bitonic sort of registers r[0, B) (B a power of two), whose halves r[0, B/2)
 // and r[B/2, B) are each sorted: the flip step pairs register j with B − 1 − j, lane i with lane
 // 7 − i; the half-cleaners pair whole registers at distances B/4 … 1, then each register's lanes.
-template <int B>
+// Only r[0, Real) need be there: the registers above them stand for the all-ones keys past a
+// list's end, which no comparator moves (each pairs them with themselves or with a key that stays
+// below), so the comparators that touch them are left out and they are never read or written (a
+// list's last block of fewer keys: orderInWindow's lastShortBlock).
+template <int B, int Real = B>
 [[OITREF_AVX512]] inline void mergeHalves(Keys8* r) {
   for (int j = 0; j < B / 2; ++j) {
+    if (B - 1 - j >= Real) continue;
     const Keys8 rb = reversed(r[B - 1 - j]), lo = smaller(r[j], rb), hi = larger(r[j], rb);
     r[j] = lo, r[B - 1 - j] = reversed(hi);
   }
   for (int D = B / 4; D >= 1; D /= 2)
     for (int j = 0; j < B; ++j)
-      if ((j & D) == 0) {
+      if ((j & D) == 0 && j + D < Real) {
         const Keys8 lo = smaller(r[j], r[j + D]), hi = larger(r[j], r[j + D]);
         r[j] = lo, r[j + D] = hi;
       }
-  for (int j = 0; j < B; ++j) r[j] = cleanRegister(r[j]);
-}
-// mergeHalves<2M> for a last block of K < M registers (r[M, M + K)): the registers above them,
-// r[M + K, 2M), would hold only the all-ones keys past the list's end, which no comparator moves
-// (each pairs them with themselves or with a key that stays below), so the comparators that
-// touch them are left out, and they are never written.
-template <int M, int K>
-[[OITREF_AVX512]] inline void mergeWithShortBlock(Keys8* r) {
-  constexpr int B = 2 * M, real = M + K;
-  for (int j = 0; j < M; ++j) {
-    if (B - 1 - j >= real) continue;
-    const Keys8 rb = reversed(r[B - 1 - j]), lo = smaller(r[j], rb), hi = larger(r[j], rb);
-    r[j] = lo, r[B - 1 - j] = reversed(hi);
-  }
-  for (int D = B / 4; D >= 1; D /= 2)
-    for (int j = 0; j < B; ++j)
-      if ((j & D) == 0 && j + D < real) {
-        const Keys8 lo = smaller(r[j], r[j + D]), hi = larger(r[j], r[j + D]);
-        r[j] = lo, r[j + D] = hi;
-      }
-  for (int j = 0; j < real; ++j) r[j] = cleanRegister(r[j]);
+  for (int j = 0; j < Real; ++j) r[j] = cleanRegister(r[j]);
 }
 // Registers r[0, M) sorted as one sequence of 8M keys: each register alone, then blocks of 2, 4 …
 // M registers merged.
@@ -169,13 +154,13 @@ template <int M>
 }
 
 // orderInWindow's last block when it holds K < M registers of keys (those from `first` on): merged
-// with the window in fewer registers (mergeWithShortBlock), and everything emitted.
+// with the window in fewer registers (mergeHalves over M + K of them), and everything emitted.
 template <int M, int K>
 [[OITREF_AVX512]] inline bool lastShortBlock(const TransparentFragment* list, uint32_t n, uint32_t first, Keys8* r, uint32_t* order,
                                              Keys8& last, bool& sorted, bool& tie, bool& nan) {
   for (int j = 0; j < K; ++j) r[M + j] = fragmentKeys(list, first + 8 * j, n, nan);
   sortRegisters<K>(r + M);
-  mergeWithShortBlock<M, K>(r);
+  mergeHalves<2 * M, M + K>(r);
   for (int j = 0; j < M + K; ++j) emit(r[j], first - 8 * M + 8 * j, n, order, last, sorted, tie);
   return sorted && !nan;
 }
