@@ -115,7 +115,7 @@ inline const Reference& reference() {
   static const Reference ref = [] {
     Reference r;
     r.scene = testScene();
-    r.abuffer = render(r.scene, "abuffer");
+    r.abuffer = render(r.scene, "abuffer", {{"lists", "keep"}});
     Scene opaqueOnly = r.scene;
     std::erase_if(opaqueOnly.objects, [](const SceneObject& o) { return o.isTransparent(); });
     r.background = render(opaqueOnly, "over").finalFloat;

@@ -18,7 +18,7 @@ TEST_CASE("ground truth: the A-buffer and the ray caster agree on every built-in
   for (const std::string& path : tools::sceneFiles(OITREF_SOURCE_DIR "/scenes")) {
     const SceneFrames frames(loadScene(path), renderer);
     const Scene& scene = frames.scene();
-    const FrameResult abuffer = frames.render(*makeMethod("abuffer"));
+    const FrameResult abuffer = frames.render(*makeMethod("abuffer", {{"lists", "keep"}}));
     const FrameResult raycast = frames.render(*makeMethod("raycast"));
     const int w = scene.width, h = scene.height;
     // The opaque objects' cover, one object at a time over a background no surface can have.

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "oitref/core/blend.h"
 #include "render_helpers.h"
@@ -600,6 +601,81 @@ TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after 
     CHECK(stats[1].fragmentsWritten > 0);
   }
   CHECK(wrongDrawId.load() == 0);
+}
+
+TEST_CASE("fragment ops: a draw sequence in bands gives the bytes of whole tiles, each band begun and ended on its worker", "[fragment]") {
+  // TileBands: each band of a tile is drawn through every draw before the next band; `begin` comes
+  // before the band's first fragment and `end` after its last, on the worker that shades them (the
+  // A-buffer stores a band's lists between the two and resolves them in `end` without a lock).
+  // OVER does not commute, so the bytes are those of whole tiles only if each pixel still sees
+  // the draws in order. Bands of 3 rows do not divide the tiles of 8 (nor the last tile row of 4).
+  std::vector<Geometry> geometries;
+  for (uint32_t d = 0; d < 5; ++d) geometries.push_back(overlappingTriangles(40, 300 + d));
+  const FragmentProgram plain = programOf([](const FragmentInput& in, FragmentOutput& o) {
+    o.write(0, colorOf(in.primitiveId * 7 + in.drawId * 3));
+  });
+  auto draw = [&](bool perFragment, const FragmentProgram& program, const TileBands& bands) {
+    Renderer r(RendererOptions{3, 8, perFragment});
+    Image a(makeFormat(FormatId::RGBA16F), W, H);
+    a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+    DepthBuffer depth(DepthFormat::D24, W, H);
+    Framebuffer fb;
+    fb.color[0] = &a, fb.depth = &depth;
+    PipelineState st;
+    st.blend[0] = kOver;
+    st.depth = {true, CompareFunc::LEqual, false, false};
+    std::vector<Renderer::DrawCall> draws;
+    for (uint32_t d = 0; d < 5; ++d) draws.push_back({&geometries[d], program, d});
+    const DrawStats stats = r.drawSequence(fb, st, draws, bands);
+    return std::make_pair(std::vector<uint8_t>(a.bytes().begin(), a.bytes().end()), stats.fragmentsShaded);
+  };
+  for (bool perFragment : {false, true}) {
+    INFO("per fragment " << perFragment);
+    std::vector<int> shaded(size_t(W) * H, 0), shadedAtBegin(size_t(W) * H, -1), shadedAtEnd(size_t(W) * H, -1);
+    std::vector<int> begun(size_t(W) * H, 0), ended(size_t(W) * H, 0);
+    std::atomic<int> outsideBand{0}, unbalanced{0}, bandsDrawn{0};
+    static thread_local const TileRect* open = nullptr;  // the band this worker is drawing
+    const FragmentProgram program = programOf([&](const FragmentInput& in, FragmentOutput& o) {
+      if (!open || in.x < open->x0 || in.x >= open->x1 || in.y < open->y0 || in.y >= open->y1)
+        outsideBand.fetch_add(1, std::memory_order_relaxed);
+      ++shaded[size_t(in.y) * W + size_t(in.x)];
+      o.write(0, colorOf(in.primitiveId * 7 + in.drawId * 3));
+    });
+    auto each = [](const TileRect& r, auto&& f) {
+      for (int y = r.y0; y < r.y1; ++y)
+        for (int x = r.x0; x < r.x1; ++x) f(size_t(y) * W + size_t(x));
+    };
+    TileBands bands;
+    bands.rows = 3;
+    bands.begin = [&](const TileRect& r) {
+      if (open) unbalanced.fetch_add(1, std::memory_order_relaxed);
+      open = new TileRect(r);
+      if (r.y1 - r.y0 > 3) unbalanced.fetch_add(1, std::memory_order_relaxed);
+      each(r, [&](size_t p) { ++begun[p], shadedAtBegin[p] = shaded[p]; });
+    };
+    bands.end = [&](const TileRect& r) {
+      if (!open || open->x0 != r.x0 || open->y0 != r.y0 || open->x1 != r.x1 || open->y1 != r.y1)
+        unbalanced.fetch_add(1, std::memory_order_relaxed);
+      delete std::exchange(open, nullptr);
+      bandsDrawn.fetch_add(1, std::memory_order_relaxed);
+      each(r, [&](size_t p) { ++ended[p], shadedAtEnd[p] = shaded[p]; });
+    };
+    const auto [banded, bandedShaded] = draw(perFragment, program, bands);
+    const auto [whole, wholeShaded] = draw(perFragment, plain, {});
+    CHECK(banded == whole);
+    CHECK(bandedShaded == wholeShaded);
+    CHECK(outsideBand.load() == 0);
+    CHECK(unbalanced.load() == 0);
+    CHECK(bandsDrawn.load() == 3 * (3 + 3 + 2));  // 24×20: 3 × 3 tiles of 8 (the last row of 4), bands 3+3+2, 3+3+2, 3+1
+    CHECK(begun == std::vector<int>(size_t(W) * H, 1));
+    CHECK(ended == begun);
+    CHECK(shadedAtBegin == std::vector<int>(size_t(W) * H, 0));
+    CHECK(shadedAtEnd == shaded);
+    uint64_t total = 0;
+    for (int n : shaded) total += uint64_t(n);
+    CHECK(total == bandedShaded);
+    CHECK(total > uint64_t(W) * H);
+  }
 }
 
 // Framebuffer::clearColor and clearDepth: a draw's clears, applied tile by tile where the tiles

@@ -43,7 +43,7 @@ TEST_CASE("fragment bound: never above the A-buffer's count, and tight where not
 TEST_CASE("fragment bound: a frame that cannot hold its fragments is refused before anything renders", "[abuffer][bad_input]") {
   Scene scene = loadScene(OITREF_SOURCE_DIR "/scenes/dense.json");
   const SceneGeometry geometry = buildSceneGeometry(scene);
-  std::unique_ptr<Method> abuffer = makeMethod("abuffer");
+  std::unique_ptr<Method> abuffer = makeMethod("abuffer", {{"lists", "keep"}});  // lists that must all fit
   // dense at 16384²: its 300 layers alone are about 80 billion fragments.
   CHECK_THROWS_WITH(checkMemory(*abuffer, 16384, 16384, geometry, uint64_t(12) << 30),
                     Catch::Contains("method 'abuffer' at 16384x16384 needs") && Catch::Contains("transparent fragments, at least"));

@@ -13,7 +13,9 @@
 
 #include "method_fixture.h"
 #include "methods/method_common.h"
+#include "oitref/oit/frame.h"
 #include "oitref/oit/method.h"
+#include "oitref/oit/scene.h"
 #include "support.h"
 
 using namespace oitref;
@@ -51,7 +53,7 @@ TEST_CASE("methods: the A-buffer sorts deep lists whatever their submission orde
   for (const auto& order : orders) {
     Scene scene = layerScene(8, {0.2f, 0.3f, 0.4f});
     scene.objects = order;
-    const FrameResult f = render(scene, "abuffer", {{"precision", "double"}});
+    const FrameResult f = render(scene, "abuffer", {{"precision", "double"}, {"lists", "keep"}});
     for (int y = 0; y < 8; ++y)
       for (int x = 0; x < 8; ++x) {
         const auto stored = f.fragmentLists.at(x, y);
@@ -378,6 +380,44 @@ TEST_CASE("methods: MBOIT is eq. 2.9 with an independent moment reconstruction",
   });
   INFO("worst error " << worstShare << " of the bound over " << compared << " pixels");
   CHECK(compared > 250);
+}
+
+TEST_CASE("methods: the A-buffer's kept lists change no bit, and its bands need what the lists show", "[methods][abuffer]") {
+  // lists=keep copies each band's lists into FrameResult::fragmentLists; without it the frame
+  // keeps none, and at() says so. Without them the frame stores one band's lists a thread at a
+  // time: the largest band of the renderer's tiles, bands of four rows, counted here from the
+  // kept lists. A limit of exactly that beside the frame's own buffers renders; a byte less fails.
+  Scene scene = loadScene(OITREF_SOURCE_DIR "/scenes/dense.json");
+  scene.width = 160, scene.height = 120;
+  const SceneGeometry geometry = buildSceneGeometry(scene);
+  Renderer renderer(RendererOptions{2, 0});
+  auto frame = [&](const char* lists, uint64_t limit) {
+    return makeMethod("abuffer", {{"lists", lists}})
+        ->render(FrameContext{scene, geometry, scene.width, scene.height, exactProfile(), renderer, limit});
+  };
+  const FrameResult kept = frame("keep", UINT64_MAX), plain = frame("none", UINT64_MAX);
+  CHECK(frameHash(kept) == frameHash(plain));
+  CHECK(plain.fragmentLists.empty());
+  CHECK_THROWS_AS(plain.fragmentLists.at(0, 0), std::logic_error);
+  const FragmentLists& lists = kept.fragmentLists;
+  REQUIRE(lists.fragments.size() == *kept.stats.fragments);
+  const TileShape tile = renderer.tileShapeFor(scene.width, scene.height);
+  uint64_t largest = 0;
+  for (int y0 = 0; y0 < scene.height; y0 += 4)
+    for (int x0 = 0; x0 < scene.width; x0 += tile.width) {
+      uint64_t band = 0;
+      for (int y = y0; y < std::min(y0 + 4, scene.height); ++y)
+        for (int x = x0; x < std::min(x0 + tile.width, scene.width); ++x) band += lists.at(x, y).size();
+      largest = std::max(largest, band);
+    }
+  REQUIRE(largest > 0);
+  uint64_t need = 2 * largest * sizeof(TransparentFragment);
+  CHECK(*plain.stats.fragmentStorageBytes <= need);
+  CHECK(*plain.stats.fragmentStorageBytes >= largest * sizeof(TransparentFragment));
+  for (const MemoryItem& i : makeMethod("abuffer")->memoryNeed(scene.width, scene.height, geometry)) need += i.bytes;
+  CHECK(frameHash(frame("none", need)) == frameHash(plain));
+  CHECK_THROWS_WITH(frame("none", need - 1), Catch::Contains("for the bands resolved at once (up to " + std::to_string(largest) +
+                                                             " fragments in a band of " + std::to_string(tile.width) + "x4 pixels"));
 }
 
 TEST_CASE("methods: options are checked, with the nearest name for typos", "[methods]") {

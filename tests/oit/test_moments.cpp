@@ -565,7 +565,7 @@ TEST_CASE("mboit storage=unorm16: the stored moments are the normalised moments,
   Scene s = layerScene(8, {0.1f, 0.2f, 0.3f});
   const float zs[4] = {0.0f, -1.5f, -4.0f, 0.8f}, alphas[4] = {0.3f, 0.6f, 0.45f, 0.2f};
   for (int i = 0; i < 4; ++i) s.objects.push_back(quad({0, 0, zs[i]}, 40, {0.9f, 0.5f, 0.1f, alphas[i]}));
-  const FrameResult truth = render(s, "abuffer");
+  const FrameResult truth = render(s, "abuffer", {{"lists", "keep"}});
   const auto stored = truth.fragmentLists.at(4, 4);
   const std::vector<TransparentFragment> f(stored.begin(), stored.end());
   REQUIRE(f.size() == 4);

@@ -66,6 +66,21 @@ struct TileShape {
   int width = 128, height = 32;
 };
 
+// A tile's pixels in bands of rows, with work on each band between its draws and the next band's,
+// as a tiling GPU runs a tile shader on its tile memory between draws (Metal's
+// dispatchThreadsPerTile): what the fragment shaders gather for a band is finished while it is in
+// the worker's cache. With bands, drawSequence draws each band of a tile through all of its draws
+// (every pixel still sees the draws' fragments in draw order, then primitive order), calling
+// `begin` before the band's first fragment and `end` after its last, on the worker that draws it;
+// [x0, x1) × [y0, y1) are the band's pixels. Tiles with no triangle are skipped.
+struct TileRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+struct TileBands {
+  int rows = 0;  // rows a band; 0: no bands (the default)
+  std::function<void(const TileRect&)> begin, end;
+};
+
 struct RendererOptions {
   int threads = 0;      // 0: every hardware thread
   // Square tiles of this many pixels, a power of two from 8 to 256; 0 (the default): wide tiles
@@ -107,7 +122,8 @@ class Renderer {
     FragmentProgram program;
     uint32_t drawId = 0;
   };
-  DrawStats drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws);
+  DrawStats drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws,
+                         const TileBands& bands = {});
   // One fragment per pixel of the viewport, at window depth 0, with no attributes, through the
   // same fragment operations (depth test if enabled, blending, write masks).
   DrawStats drawFullscreen(Framebuffer& fb, const PipelineState& state, const FragmentProgram& program);

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -21,13 +22,14 @@ struct TransparentFragment {
 struct FragmentLists {
   int width = 0, height = 0;
   // Pixel p = y·width + x owns fragments[start[p] .. start[p + 1]); start has width·height + 1
-  // entries (none when the frame stored no lists).
+  // entries (none when the frame kept no lists: the A-buffer keeps them with lists=keep).
   std::vector<uint64_t> start;
   std::vector<TransparentFragment> fragments;
 
   bool empty() const { return start.empty(); }
   // The fragments of pixel (x, y), in submission order.
   std::span<const TransparentFragment> at(int x, int y) const {
+    if (empty()) throw std::logic_error("FragmentLists::at: the frame kept no lists (the A-buffer keeps them with lists=keep)");
     const size_t p = size_t(y) * size_t(width) + size_t(x);
     return {fragments.data() + start[p], size_t(start[p + 1] - start[p])};
   }

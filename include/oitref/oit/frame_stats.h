@@ -18,7 +18,7 @@ struct FrameStats {
   std::optional<uint32_t> depthComplexityMax;      // the most fragments of one pixel
   std::optional<double> depthComplexityMean;       // fragments per pixel of the frame
   std::optional<uint64_t> pixelsWithTransparency;  // pixels with at least one fragment
-  std::optional<uint64_t> fragmentStorageBytes;    // the lists and their offsets
+  std::optional<uint64_t> fragmentStorageBytes;    // the A-buffer's bands and kept lists (lists=keep)
   // Depth peeling (front to back, and dual).
   std::optional<int> peelingPasses;  // peeling passes drawn, the last one included
   std::optional<int> layersPeeled;   // front-to-back peeling: the passes that found a layer

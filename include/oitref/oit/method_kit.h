@@ -126,7 +126,8 @@ class PassRunner {
   template <typename BatchShader>
   void transparentBatchPass(const std::string& name, Framebuffer& fb, const PipelineState& state,
                             const BatchShader& shader, bool mayDiscard = false, bool pure = false,
-                            const ShaderDepthTest& discardTest = {}, bool readsDepth = true, bool readsViewDepth = true) {
+                            const ShaderDepthTest& discardTest = {}, bool readsDepth = true, bool readsViewDepth = true,
+                            const TileBands& bands = {}) {
     drawTransparent(name, fb, state, [&](const SceneObject& object) {
       const TextureFiltering filtering = context_.profile.texture;
       FragmentProgram program = programOfBatch(
@@ -158,7 +159,7 @@ class PassRunner {
       program.readsViewDepth = readsViewDepth;
       withSurfaceTest(program, object, state);
       return program;
-    });
+    }, bands);
   }
   // A pass whose shader reads nothing of the surface — only each fragment's position, depths and
   // ids: shader(const FragmentBatch& in, FragmentBatchOutput& out). No attribute is interpolated,
@@ -236,7 +237,8 @@ class PassRunner {
   // transparentPass's body: programFor(object) is the fragment program of the object's draw; one
   // that does not say how many attributes it reads reads those of shadeSurface.
   void drawTransparent(const std::string& name, Framebuffer& fb, const PipelineState& state,
-                       const std::function<FragmentProgram(const SceneObject&)>& programFor);
+                       const std::function<FragmentProgram(const SceneObject&)>& programFor,
+                       const TileBands& bands = {});
   PipelineState compositeState() const;  // compositeBlend() on both presented targets
   // What a program through shadeSurface declares for `object` (scene_geometry.h): the attributes
   // and derivatives it reads and, for an alpha-tested object, that it may discard. A shader that

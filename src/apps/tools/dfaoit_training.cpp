@@ -74,7 +74,7 @@ std::vector<Scene> dfaoitTrainingScenes() {
 std::vector<DfaoitSample> dfaoitDataset(const std::vector<Scene>& scenes, Renderer& renderer) {
   std::vector<DfaoitSample> samples;
   for (const Scene& scene : scenes) {
-    const FrameResult frame = SceneFrames(scene, renderer).render(*makeMethod("abuffer"));
+    const FrameResult frame = SceneFrames(scene, renderer).render(*makeMethod("abuffer", {{"lists", "keep"}}));
     const FragmentLists& lists = frame.fragmentLists;
     for (int pixel = 0; pixel < lists.width * lists.height; ++pixel) {
       const auto stored = lists.at(pixel % lists.width, pixel / lists.width);

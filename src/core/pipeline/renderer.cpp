@@ -252,7 +252,8 @@ DrawStats Renderer::draw(Framebuffer& fb, const PipelineState& state, const Geom
   return drawSequence(fb, state, {DrawCall{&geometry, program, 0}});
 }
 
-DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws) {
+DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, const std::vector<DrawCall>& draws,
+                                 const TileBands& bands) {
   fb.validate();
   for (const DrawCall& d : draws) d.geometry->validate();
   const detail::SetupContext context = makeContext(fb, state);
@@ -292,21 +293,30 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
 
   t0 = std::chrono::steady_clock::now();
   std::vector<detail::FragmentCounters> perTile(size_t(grid.count()));
+  if (bands.rows < 0) throw std::invalid_argument("TileBands::rows must not be negative");
   arena_->execute([&] {
     workerParallelFor(size_t(grid.count()), [&](size_t tile) {
-      if (clearTiles) clears.apply(fb, grid.tileRect(int(tile)));
+      const detail::PixelRect rect = grid.tileRect(int(tile));
+      if (clearTiles) clears.apply(fb, rect);
       std::optional<detail::FragmentStage> stage;  // made for the tile's first draw, kept for the rest
-      for (size_t d = 0; d < draws.size(); ++d) {
-        const detail::BinnedTriangles& b = bins[d];
-        if (b.tileStart[tile] == b.tileStart[tile + 1]) continue;
-        if (!stage) {
-          stage.emplace(fb, state, draws[d].program, draws[d].geometry, viewportRect(context), draws[d].drawId);
-          stage->beginTile(grid.tileRect(int(tile)));
-        } else {
-          stage->beginDraw(draws[d].program, draws[d].geometry, draws[d].drawId);
+      const int rows = bands.rows > 0 ? bands.rows : rect.y1 - rect.y0;
+      for (int y0 = rect.y0; y0 < rect.y1; y0 += rows) {
+        const detail::PixelRect band{rect.x0, y0, rect.x1, std::min(rect.y1, y0 + rows)};
+        bool begun = false;
+        for (size_t d = 0; d < draws.size(); ++d) {
+          const detail::BinnedTriangles& b = bins[d];
+          if (b.tileStart[tile] == b.tileStart[tile + 1]) continue;
+          if (!stage) stage.emplace(fb, state, draws[d].program, draws[d].geometry, viewportRect(context), draws[d].drawId);
+          else stage->beginDraw(draws[d].program, draws[d].geometry, draws[d].drawId);
+          if (!begun) {
+            stage->beginTile(band);
+            if (bands.begin) bands.begin({band.x0, band.y0, band.x1, band.y1});
+            begun = true;
+          }
+          detail::rasterizeTile(b, int(tile), band, state.raster.subpixelBits, options_.perFragment, *stage);
         }
-        detail::rasterizeTile(b, int(tile), grid.tileRect(int(tile)), state.raster.subpixelBits, options_.perFragment,
-                              *stage);
+        if (!begun) break;  // the tile has no triangle
+        if (bands.end) bands.end({band.x0, band.y0, band.x1, band.y1});
       }
       if (stage) perTile[tile] = stage->counters();
     });

@@ -6,10 +6,17 @@
 //
 // Storage is built as a GPU A-buffer with a prefix sum would: a counting pass, a check against
 // the `max_fragments` budget (an error naming the deepest pixel, never an out-of-memory kill),
-// then a storing pass. Each tile's pixels belong to one worker, so the per-pixel writes of the
-// fragment shader are race-free and in submission order.
+// then a storing pass. The storing pass draws each tile in bands of rows (renderer.h's
+// TileBands), as a tiling GPU keeps a tile's storage on chip: a band's lists are laid out from
+// the counts when it begins, filled by the fragment shader, and sorted, composited and stored
+// into the presented images by the same worker when it ends, while they are in its cache. Each
+// band's pixels belong to one worker, so the per-pixel writes are race-free and in submission
+// order. The whole frame's lists are kept for the result only on request (lists=keep).
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <memory>
+#include <mutex>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
@@ -108,17 +115,36 @@ void compositePairBackToFront(const StoredFragment* listA, const uint32_t* order
   b.finish(resultB);
 }
 
+// The lists of one band of a tile (renderer.h's TileBands), stored by the worker that draws it and
+// resolved by it as soon as the band's last fragment is in: the band's lists stay in that
+// worker's cache (a band of 128×8 pixels with dense's 71 layers holds 2.3 MB), where a frame's
+// lists in memory would take every record's line from memory and back (1.7 GB at 1080p).
+struct BandLists {
+  TileRect rect;
+  int width = 0;
+  std::vector<uint64_t> start;   // band pixel i = (y − y0)·width + (x − x0) owns [start[i], start[i + 1])
+  std::vector<uint32_t> filled;  // how many of each pixel's fragments are stored
+  std::vector<StoredFragment> fragments;
+  std::vector<glm::vec4> texels[2];    // a row's backgrounds in both presented images
+  std::vector<glm::vec4> resolved[2];  // the colours of its pixels with fragments, in order
+  std::vector<int> columns;            // and their columns
+  std::vector<uint32_t> orders[2];
+  DepthOrder depthOrder;
+};
+
 class Abuffer final : public Method {
  public:
   explicit Abuffer(const MethodOptions& o)
-      : useDouble_(o.is("precision", "double")), maxFragments_(uint64_t(o.number("max_fragments"))) {}
+      : useDouble_(o.is("precision", "double")), keepLists_(o.is("lists", "keep")),
+        maxFragments_(uint64_t(o.number("max_fragments"))) {}
   const MethodInfo& info() const override { return abufferInfo(); }
   std::vector<AttachmentDecl> attachments() const override { return AttachmentList().declared(); }
-  // The frame's own buffers, and the fragments that the geometry alone shows it must store
-  // (fragment_bound.h): a frame that cannot fit is refused before anything is allocated. The
-  // fragments themselves are counted, and checked again, by the counting pass.
+  // The frame's own buffers, and, where the lists are kept, the fragments that the geometry alone
+  // shows it must store (fragment_bound.h): a frame that cannot fit is refused before anything is
+  // allocated. The fragments themselves are counted, and checked again, by the counting pass.
   std::vector<MemoryItem> memoryNeed(int width, int height, const SceneGeometry& geometry) const override {
     std::vector<MemoryItem> items = frameBuffers(width, height, geometry);
+    if (!keepLists_) return items;
     const uint64_t fragments = transparentFragmentsAtLeast(geometry, width, height);
     items.push_back({"transparent fragments, at least " + std::to_string(fragments) + " (" +
                          std::to_string(sizeof(StoredFragment)) + " B each; those of the triangles in front of every opaque one)",
@@ -145,18 +171,20 @@ class Abuffer final : public Method {
     // pass stops as soon as it has counted more (a 16384² frame of `dense` counted for five
     // minutes before its total was refused): each worker adds its count to the shared total every
     // few thousand fragments, so what has been added never exceeds the true count, and a frame
-    // that fits is never stopped.
+    // that fits is never stopped. Without kept lists the frame stores one band a worker at a time,
+    // checked once the count is known.
     uint64_t known = 0;
     for (const MemoryItem& i : frameBuffers(w, h, context.geometry)) known += i.bytes;
     const uint64_t spare = context.memoryLimit > known ? context.memoryLimit - known : 0;
-    const uint64_t fitting = std::min(maxFragments_, spare / sizeof(StoredFragment));
-    std::vector<uint32_t> count(pixels, 0);
+    const uint64_t fitting = keepLists_ ? std::min(maxFragments_, spare / sizeof(StoredFragment)) : maxFragments_;
+    count_.assign(pixels, 0);  // kept between frames: no pages to fault in and zero
+    uint32_t* const count = count_.data();
     std::atomic<uint64_t> counted{0};
     const uint64_t frameId = nextFrameId();
     bool stopped = false;
     try {
       run.transparentPositionPass("count", depthOnly, st, [&](const FragmentBatch& in, FragmentBatchOutput&) {
-        uint32_t* row = count.data() + size_t(in.y) * w;
+        uint32_t* row = count + size_t(in.y) * w;
         if (in.x[in.count - 1] - in.x[0] == in.count - 1) {  // a run of pixels (x ascending): in lanes
           uint32_t* run = row + in.x[0];
           for (int i = 0; i < in.count; ++i) ++run[i];
@@ -182,110 +210,211 @@ class Abuffer final : public Method {
                                formatBytes(known) + " under the memory limit of " + formatBytes(context.memoryLimit) +
                                " (the count stopped there). Render smaller or raise --memory-limit.");
     }
-    const uint64_t total = std::accumulate(count.begin(), count.end(), uint64_t(0));
-    const size_t deepest = size_t(std::max_element(count.begin(), count.end()) - count.begin());
+    const uint64_t total = std::accumulate(count, count + pixels, uint64_t(0));
+    const size_t deepest = size_t(std::max_element(count, count + pixels) - count);
     const std::string deepestText = "; the deepest pixel (" + std::to_string(deepest % w) + "," + std::to_string(deepest / w) +
                                     ") has " + std::to_string(count[deepest]) + " layers.";
-    const uint64_t fragmentBytes = total * sizeof(StoredFragment);
+    // What the frame stores: each band's lists while it is drawn (at most one band a worker), and
+    // with lists=keep every list besides.
+    const TileShape tile = context.renderer.tileShapeFor(w, h);
+    const uint64_t largestBand = largestBandFragments(w, h, tile);
+    const uint64_t bandBytes = uint64_t(context.renderer.threads()) * largestBand * sizeof(StoredFragment);
+    const uint64_t fragmentBytes = (keepLists_ ? total * sizeof(StoredFragment) : 0) + bandBytes;
     if (known + fragmentBytes > context.memoryLimit)
-      throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments need " + formatBytes(fragmentBytes) +
-                               " (plus " + formatBytes(known) + " for the frame), above the memory limit of " +
+      throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments need " +
+                               (keepLists_ ? formatBytes(total * sizeof(StoredFragment)) + " for their lists and " : "") +
+                               formatBytes(bandBytes) + " for the bands resolved at once (up to " + std::to_string(largestBand) +
+                               " fragments in a band of " + std::to_string(tile.width) + "x" + std::to_string(kBandRows) +
+                               " pixels, one band for each of " + std::to_string(context.renderer.threads()) +
+                               " threads), beside the frame's own " + formatBytes(known) + ", above the memory limit of " +
                                formatBytes(context.memoryLimit) + deepestText + " Render smaller or raise --memory-limit.");
     if (total > maxFragments_)
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments exceed max_fragments=" +
                                std::to_string(maxFragments_) + " (" + std::to_string(total * sizeof(StoredFragment) >> 20) +
                                " MiB)" + deepestText + " Raise it with --set max_fragments=N or render smaller.");
-    std::vector<uint64_t> start(pixels + 1, 0);
-    for (size_t p = 0; p < pixels; ++p) start[p + 1] = start[p] + count[p];
-    std::vector<StoredFragment> fragments;
-    if (context.pool) {
-      fragments = context.pool->takeFragments(total);
-    } else {
-      util::reserveOnHugePages(fragments, total);
-      fragments.resize(total);
-    }
-    std::vector<uint32_t> filled(pixels, 0);
-    run.transparentBatchPass("store", depthOnly, st, [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
-      const size_t row = size_t(in.y) * w;
-      for (int i = 0; i < in.count; ++i) {
-        const size_t p = row + in.x[i];
-        const uint64_t slot = start[p] + filled[p]++;
-        fragments[slot] = {in.depth[i], in.viewDepth[i], c[i], in.drawId, in.primitiveId};
-        // The line of the pixel's fragment after next, fetched now for writing: the pixel's next
-        // fragment comes with a later primitive, and its write would otherwise wait on memory.
-        if (slot + 2 < total) __builtin_prefetch(&fragments[slot + 2], 1);
-      }
-    });
+    for (std::unique_ptr<BandLists>& b : bands_)  // a larger store kept from an earlier frame goes
+      if (b->fragments.capacity() > largestBand) std::vector<StoredFragment>().swap(b->fragments);
 
-    const bool useDouble = useDouble_;
-    const auto composite = useDouble ? compositeBackToFront<double> : compositeBackToFront<float>;
-    run.compositeOntoBackgroundsBatch(t, "sort+composite", [&](const FragmentBatch& in, const glm::vec3* const background[2],
-                                                               glm::vec3* const result[2], bool* resolved) {
-      // The stored lists stay in submission order for the result; the resolve sorts positions.
-      // Two pixels at a time, side by side (DepthOrder::sortPair, compositePairBackToFront): each
-      // insertion and each layer waits for the one before, and the other pixel's work fills that
-      // wait.
-      thread_local DepthOrder depthOrder;
-      thread_local std::vector<uint32_t> orders[2];
-      const size_t row = size_t(in.y) * w;
-      auto list = [&](int i) { return fragments.data() + start[row + size_t(in.x[i])]; };
-      auto length = [&](int i) { return count[row + size_t(in.x[i])]; };
-      auto backgrounds = [&](int i, glm::vec3 out[2]) { out[0] = background[0][i], out[1] = background[1][i]; };
-      auto store = [&](int i, const glm::vec3 out[2]) { result[0][i] = out[0], result[1][i] = out[1]; };
-      int waiting = -1;  // a pixel whose list waits for a second one
+    // The whole frame's lists, for FrameResult::fragmentLists, only where they are asked for: each
+    // band's resolve copies its lists there, one run of fragments a row.
+    std::vector<uint64_t> start;
+    std::vector<StoredFragment> fragments;
+    if (keepLists_) {
+      start.assign(pixels + 1, 0);
+      for (size_t p = 0; p < pixels; ++p) start[p + 1] = start[p] + count[p];
+      if (context.pool) {
+        fragments = context.pool->takeFragments(total);
+      } else {
+        util::reserveOnHugePages(fragments, total);
+        fragments.resize(total);
+      }
+    }
+    Image &opaque = t.opaque(), &analysis = t.analysis();
+    TileBands bands;
+    bands.rows = kBandRows;
+    bands.begin = [&](const TileRect& r) { beginBand(r, count, w); };
+    bands.end = [&](const TileRect& r) {
+      BandLists& b = *std::exchange(currentBand, nullptr);
+      for (int y = r.y0; y < r.y1; ++y) resolveRow(b, y, opaque, analysis, context.profile);
+      if (keepLists_)
+        for (int y = r.y0; y < r.y1; ++y) {
+          const size_t i = size_t(y - r.y0) * size_t(b.width), p = size_t(y) * w + size_t(r.x0);
+          std::copy(b.fragments.data() + b.start[i], b.fragments.data() + b.start[i + size_t(b.width)],
+                    fragments.data() + start[p]);
+        }
+      giveBand(&b);
+    };
+    run.transparentBatchPass("store+resolve", depthOnly, st, [](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput&) {
+      BandLists& b = *currentBand;
+      const size_t row = size_t(in.y - b.rect.y0) * size_t(b.width) - size_t(b.rect.x0);
       for (int i = 0; i < in.count; ++i) {
-        resolved[i] = length(i) > 0;
-        if (!resolved[i]) continue;
-        if (waiting < 0) {
-          waiting = i;
-          continue;
-        }
-        const int first = std::exchange(waiting, -1);
-        orders[0].resize(length(first)), orders[1].resize(length(i));
-        depthOrder.sortPair(list(first), length(first), orders[0].data(), list(i), length(i), orders[1].data());
-        glm::vec3 under[2][2], out[2][2];
-        backgrounds(first, under[0]), backgrounds(i, under[1]);
-        if (useDouble) {
-          composite(list(first), orders[0].data(), length(first), under[0], out[0]);
-          composite(list(i), orders[1].data(), length(i), under[1], out[1]);
-        } else {
-          compositePairBackToFront(list(first), orders[0].data(), length(first), under[0], out[0], list(i), orders[1].data(),
-                                   length(i), under[1], out[1]);
-        }
-        store(first, out[0]), store(i, out[1]);
+        const size_t p = row + size_t(in.x[i]);
+        b.fragments[b.start[p] + b.filled[p]++] = {in.depth[i], in.viewDepth[i], c[i], in.drawId, in.primitiveId};
       }
-      if (waiting >= 0) {
-        orders[0].resize(length(waiting));
-        depthOrder.sort(list(waiting), length(waiting), orders[0].data());
-        glm::vec3 under[2], out[2];
-        backgrounds(waiting, under);
-        composite(list(waiting), orders[0].data(), length(waiting), under, out);
-        store(waiting, out);
-      }
-    });
+    }, false, false, {}, true, true, bands);
 
     uint64_t covered = 0;
-    for (uint32_t c : count) covered += c > 0;
+    for (size_t p = 0; p < pixels; ++p) covered += count[p] > 0;
     result.stats.fragments = total;
     result.stats.depthComplexityMax = count[deepest];
     result.stats.depthComplexityMean = double(total) / double(pixels);
     result.stats.pixelsWithTransparency = covered;
-    result.stats.fragmentStorageBytes = total * sizeof(StoredFragment) + (pixels + 1) * sizeof(uint64_t);
+    uint64_t bandStore = 0;
+    for (const std::unique_ptr<BandLists>& b : bands_) bandStore += b->fragments.capacity() * sizeof(StoredFragment);
+    result.stats.fragmentStorageBytes = bandStore + (keepLists_ ? total * sizeof(StoredFragment) + (pixels + 1) * sizeof(uint64_t) : 0);
     t.finish(result, AttachmentList::kOpaque);
-    result.fragmentLists = {context.width, context.height, std::move(start), std::move(fragments)};
+    if (keepLists_) result.fragmentLists = {context.width, context.height, std::move(start), std::move(fragments)};
     return result;
   }
 
  private:
-  // The attachments and copies of every method, and the lists' heads.
+  // Rows a band: a band of a 128-pixel-wide tile holds 512 lists (1.2 MB at dense's 71 layers).
+  // Dense at 1080p, two threads, store+resolve: 2 rows 223–242 ms, 4 rows 217–239, 8 rows
+  // 223–265, 32 (whole tiles) 398; each band costs a walk over its tile's triangles.
+  static constexpr int kBandRows = 4;
+
+  // The attachments and copies of every method, the counts and, with kept lists, their heads.
   std::vector<MemoryItem> frameBuffers(int width, int height, const SceneGeometry& geometry) const {
     std::vector<MemoryItem> items = Method::memoryNeed(width, height, geometry);
-    items.push_back({"fragment counts, offsets and fill levels (16 B/pixel)", uint64_t(width) * uint64_t(height) * 16});
+    items.push_back({keepLists_ ? "fragment counts and list offsets (12 B/pixel)" : "fragment counts (4 B/pixel)",
+                     uint64_t(width) * uint64_t(height) * (keepLists_ ? 12 : 4)});
     return items;
   }
+  // The most fragments of one band of the renderer's tiles (bands start every kBandRows rows of
+  // a tile, and tiles every tile.height rows from row 0, a multiple of kBandRows).
+  uint64_t largestBandFragments(int w, int h, TileShape tile) const {
+    const int across = (w + tile.width - 1) / tile.width;
+    std::vector<uint64_t> band(static_cast<size_t>(across));
+    uint64_t largest = 0;
+    for (int y = 0; y < h; ++y) {
+      const uint32_t* row = count_.data() + size_t(y) * size_t(w);
+      for (int x = 0; x < w; ++x) band[size_t(x / tile.width)] += row[x];
+      if ((y + 1) % kBandRows != 0 && y + 1 != h && (y + 1) % tile.height != 0) continue;
+      for (uint64_t& b : band) largest = std::max(largest, std::exchange(b, 0));
+    }
+    return largest;
+  }
+  // A band's lists laid out from the counts: the worker's store for it until the band ends.
+  void beginBand(const TileRect& r, const uint32_t* count, int w) {
+    BandLists& b = *(currentBand = takeBand());
+    b.rect = r;
+    b.width = r.x1 - r.x0;
+    const size_t n = size_t(b.width) * size_t(r.y1 - r.y0);
+    b.start.resize(n + 1);
+    b.filled.assign(n, 0);
+    uint64_t at = 0;
+    for (int y = r.y0, i = 0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x, ++i) b.start[size_t(i)] = at, at += count[size_t(y) * size_t(w) + size_t(x)];
+    b.start[n] = at;
+    if (b.fragments.size() < at) {  // exactly the band's fragments: the memory check counts no more
+      b.fragments.clear();
+      b.fragments.reserve(at);
+      b.fragments.resize(at);
+    }
+  }
+  // Row y of band b resolved into both presented images: each list sorted (the stored lists stay
+  // in submission order; the resolve sorts positions) and composited onto the pixel's background,
+  // then stored with α = 1 by the format's rule under the profile (Image::storeRow). Two pixels
+  // at a time, side by side (DepthOrder::sortPair, compositePairBackToFront): each insertion and
+  // each layer waits for the one before, and the other pixel's work fills that wait.
+  void resolveRow(BandLists& b, int y, Image& opaque, Image& analysis, const Profile& profile) const {
+    const size_t first = size_t(y - b.rect.y0) * size_t(b.width);
+    const int n = b.width;
+    if (b.start[first + size_t(n)] == b.start[first]) return;  // no fragments in this row of the band
+    for (int t = 0; t < 2; ++t) {
+      b.texels[t].resize(size_t(n));
+      (t == 0 ? opaque : analysis).fetchRun(y, b.rect.x0, n, b.texels[t].data());
+    }
+    auto list = [&](int i) { return b.fragments.data() + b.start[first + size_t(i)]; };
+    auto length = [&](int i) { return uint32_t(b.start[first + size_t(i) + 1] - b.start[first + size_t(i)]); };
+    auto backgrounds = [&](int i, glm::vec3 out[2]) {
+      out[0] = glm::vec3(b.texels[0][size_t(i)]), out[1] = glm::vec3(b.texels[1][size_t(i)]);
+    };
+    int resolved = 0;  // pixels resolved so far
+    b.columns.resize(size_t(n)), b.resolved[0].resize(size_t(n)), b.resolved[1].resize(size_t(n));
+    auto store = [&](int i, const glm::vec3 out[2]) {
+      b.columns[size_t(resolved)] = b.rect.x0 + i;
+      for (int t = 0; t < 2; ++t) b.resolved[t][size_t(resolved)] = glm::vec4(out[t], 1.0f);
+      ++resolved;
+    };
+    const auto composite = useDouble_ ? compositeBackToFront<double> : compositeBackToFront<float>;
+    std::vector<uint32_t>* orders = b.orders;
+    int waiting = -1;  // a pixel whose list waits for a second one
+    for (int i = 0; i < n; ++i) {
+      if (length(i) == 0) continue;
+      if (waiting < 0) {
+        waiting = i;
+        continue;
+      }
+      const int one = std::exchange(waiting, -1);
+      orders[0].resize(length(one)), orders[1].resize(length(i));
+      b.depthOrder.sortPair(list(one), length(one), orders[0].data(), list(i), length(i), orders[1].data());
+      glm::vec3 under[2][2], out[2][2];
+      backgrounds(one, under[0]), backgrounds(i, under[1]);
+      if (useDouble_) {
+        composite(list(one), orders[0].data(), length(one), under[0], out[0]);
+        composite(list(i), orders[1].data(), length(i), under[1], out[1]);
+      } else {
+        compositePairBackToFront(list(one), orders[0].data(), length(one), under[0], out[0], list(i), orders[1].data(),
+                                 length(i), under[1], out[1]);
+      }
+      store(one, out[0]), store(i, out[1]);
+    }
+    if (waiting >= 0) {
+      orders[0].resize(length(waiting));
+      b.depthOrder.sort(list(waiting), length(waiting), orders[0].data());
+      glm::vec3 under[2], out[2];
+      backgrounds(waiting, under);
+      composite(list(waiting), orders[0].data(), length(waiting), under, out);
+      store(waiting, out);
+    }
+    opaque.storeRow(y, b.columns.data(), resolved, b.resolved[0].data(), profile);
+    analysis.storeRow(y, b.columns.data(), resolved, b.resolved[1].data(), profile);
+  }
+  // A band's store, kept between bands and frames: as many as bands drawn at once (one a worker).
+  BandLists* takeBand() {
+    const std::lock_guard<std::mutex> lock(bandsMutex_);
+    if (spareBands_.empty()) return bands_.emplace_back(std::make_unique<BandLists>()).get();
+    BandLists* b = spareBands_.back();
+    spareBands_.pop_back();
+    return b;
+  }
+  void giveBand(BandLists* b) {
+    const std::lock_guard<std::mutex> lock(bandsMutex_);
+    spareBands_.push_back(b);
+  }
+
+  static thread_local BandLists* currentBand;  // the band this worker is drawing
   bool useDouble_;
+  bool keepLists_;
   uint64_t maxFragments_;
+  std::vector<uint32_t> count_;  // each pixel's fragments, from the counting pass
+  std::mutex bandsMutex_;
+  std::vector<std::unique_ptr<BandLists>> bands_;
+  std::vector<BandLists*> spareBands_;
 };
+
+thread_local BandLists* Abuffer::currentBand = nullptr;
 
 }  // namespace
 
@@ -296,7 +425,9 @@ const MethodInfo& abufferInfo() {
       "exact per-pixel sorted A-buffer (ground truth), OVER back to front",
       {{"precision", "float", "arithmetic of the OVER composite", {"float", "double"}},
        {"max_fragments", "50000000", "fragment budget (32 bytes each); exceeding it is an error", {},
-        OptionNumber::integer(1, 0x1p40)}}};
+        OptionNumber::integer(1, 0x1p40)},
+       {"lists", "none", "whether the frame's result keeps every pixel's fragments (FrameResult::fragmentLists)",
+        {"none", "keep"}}}};
     i.studyVariants = {{{"precision", "double"}}};
     i.stressVariants = {{}};
     return i;

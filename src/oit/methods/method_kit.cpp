@@ -190,7 +190,8 @@ FragmentProgram PassRunner::alphaTestedPositionProgram(const SceneObject& object
 }
 
 void PassRunner::drawTransparent(const std::string& name, Framebuffer& fb, const PipelineState& state,
-                                 const std::function<FragmentProgram(const SceneObject&)>& programFor) {
+                                 const std::function<FragmentProgram(const SceneObject&)>& programFor,
+                                 const TileBands& bands) {
   const auto t0 = std::chrono::steady_clock::now();
   PassReport report{name, 0, {}};
   std::vector<Renderer::DrawCall> draws;
@@ -201,7 +202,7 @@ void PassRunner::drawTransparent(const std::string& name, Framebuffer& fb, const
     if (program.attributesRead < 0) program.attributesRead = shadeSurfaceReads(object);  // through shadeSurface
     draws.push_back({&clipGeometry(part), std::move(program), uint32_t(part.objectIndex)});
   }
-  report.stats = context_.renderer.drawSequence(fb, state, draws);
+  report.stats = context_.renderer.drawSequence(fb, state, draws, bands);
   report.ms = msSince(t0);
   result_.passes.push_back(report);
 }
