@@ -2,6 +2,7 @@
 // write masks, full-screen passes, texel fetch between passes, viewport.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -647,8 +648,10 @@ TEST_CASE("fragment ops: a draw sequence in bands gives the bytes of whole tiles
     };
     TileBands bands;
     bands.rows = 3;
-    bands.begin = [&](const TileRect& r) {
+    std::vector<uint32_t> reaching(size_t(W) * H, 0);
+    bands.begin = [&](const TileRect& r, uint32_t triangles) {
       if (open) unbalanced.fetch_add(1, std::memory_order_relaxed);
+      each(r, [&](size_t p) { reaching[p] = triangles; });
       open = new TileRect(r);
       if (r.y1 - r.y0 > 3) unbalanced.fetch_add(1, std::memory_order_relaxed);
       each(r, [&](size_t p) { ++begun[p], shadedAtBegin[p] = shaded[p]; });
@@ -671,6 +674,12 @@ TEST_CASE("fragment ops: a draw sequence in bands gives the bytes of whole tiles
     CHECK(ended == begun);
     CHECK(shadedAtBegin == std::vector<int>(size_t(W) * H, 0));
     CHECK(shadedAtEnd == shaded);
+    // The triangles binned to the band's tile bound every pixel's fragments; none are clipped
+    // here, so no tile gets more than the draws' 200.
+    int above = 0;
+    for (size_t p = 0; p < shaded.size(); ++p) above += uint32_t(shaded[p]) > reaching[p];
+    CHECK(above == 0);
+    CHECK(*std::max_element(reaching.begin(), reaching.end()) <= 200u);
     uint64_t total = 0;
     for (int n : shaded) total += uint64_t(n);
     CHECK(total == bandedShaded);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 
 #include "method_fixture.h"
 #include "methods/method_common.h"
@@ -382,25 +383,39 @@ TEST_CASE("methods: MBOIT is eq. 2.9 with an independent moment reconstruction",
   CHECK(compared > 250);
 }
 
-TEST_CASE("methods: the A-buffer's kept lists change no bit, and its bands need what the lists show", "[methods][abuffer]") {
+TEST_CASE("methods: the A-buffer's layouts and kept lists change no bit, and its bands need what the lists show", "[methods][abuffer]") {
   // lists=keep copies each band's lists into FrameResult::fragmentLists; without it the frame
-  // keeps none, and at() says so. Without them the frame stores one band's lists a thread at a
-  // time: the largest band of the renderer's tiles, bands of four rows, counted here from the
-  // kept lists. A limit of exactly that beside the frame's own buffers renders; a byte less fails.
+  // keeps none, and at() says so. store=counted lays each band's lists out from a counting pass,
+  // store=bounded at a stride of the triangles that reach the band (no counting pass): the same
+  // fragments in the same order, so the same bits, at 1, 2 and 7 threads.
   Scene scene = loadScene(OITREF_SOURCE_DIR "/scenes/dense.json");
   scene.width = 160, scene.height = 120;
   const SceneGeometry geometry = buildSceneGeometry(scene);
   Renderer renderer(RendererOptions{2, 0});
-  auto frame = [&](const char* lists, uint64_t limit) {
-    return makeMethod("abuffer", {{"lists", lists}})
-        ->render(FrameContext{scene, geometry, scene.width, scene.height, exactProfile(), renderer, limit});
+  auto frame = [&](std::map<std::string, std::string> options, uint64_t limit = UINT64_MAX, Renderer* r = nullptr) {
+    return makeMethod("abuffer", options)
+        ->render(FrameContext{scene, geometry, scene.width, scene.height, exactProfile(), r ? *r : renderer, limit});
   };
-  const FrameResult kept = frame("keep", UINT64_MAX), plain = frame("none", UINT64_MAX);
-  CHECK(frameHash(kept) == frameHash(plain));
+  const FrameResult kept = frame({{"lists", "keep"}}), plain = frame({});
+  const std::string hash = frameHash(kept);
+  CHECK(frameHash(plain) == hash);
+  for (int threads : {1, 2, 7}) {
+    Renderer r(RendererOptions{threads, 0});
+    INFO(threads << " threads");
+    CHECK(frameHash(frame({{"store", "counted"}}, UINT64_MAX, &r)) == hash);
+    CHECK(frameHash(frame({{"store", "bounded"}}, UINT64_MAX, &r)) == hash);
+  }
   CHECK(plain.fragmentLists.empty());
   CHECK_THROWS_AS(plain.fragmentLists.at(0, 0), std::logic_error);
   const FragmentLists& lists = kept.fragmentLists;
   REQUIRE(lists.fragments.size() == *kept.stats.fragments);
+  CHECK(*plain.stats.fragments == *kept.stats.fragments);
+  CHECK(*plain.stats.depthComplexityMax == *kept.stats.depthComplexityMax);
+  CHECK(*plain.stats.pixelsWithTransparency == *kept.stats.pixelsWithTransparency);
+
+  // Counted, the frame stores one band's lists a thread at a time: the largest band of the
+  // renderer's tiles, bands of four rows, counted here from the kept lists. A limit of exactly
+  // that beside the frame's own buffers and counts renders; a byte less fails.
   const TileShape tile = renderer.tileShapeFor(scene.width, scene.height);
   uint64_t largest = 0;
   for (int y0 = 0; y0 < scene.height; y0 += 4)
@@ -411,13 +426,31 @@ TEST_CASE("methods: the A-buffer's kept lists change no bit, and its bands need 
       largest = std::max(largest, band);
     }
   REQUIRE(largest > 0);
-  uint64_t need = 2 * largest * sizeof(TransparentFragment);
-  CHECK(*plain.stats.fragmentStorageBytes <= need);
-  CHECK(*plain.stats.fragmentStorageBytes >= largest * sizeof(TransparentFragment));
-  for (const MemoryItem& i : makeMethod("abuffer")->memoryNeed(scene.width, scene.height, geometry)) need += i.bytes;
-  CHECK(frameHash(frame("none", need)) == frameHash(plain));
-  CHECK_THROWS_WITH(frame("none", need - 1), Catch::Contains("for the bands resolved at once (up to " + std::to_string(largest) +
-                                                             " fragments in a band of " + std::to_string(tile.width) + "x4 pixels"));
+  uint64_t own = 0;
+  for (const MemoryItem& i : makeMethod("abuffer", {{"store", "counted"}})->memoryNeed(scene.width, scene.height, geometry))
+    own += i.bytes;
+  const uint64_t counted = own + 2 * largest * sizeof(TransparentFragment);
+  const FrameResult atLimit = frame({{"store", "counted"}}, counted);
+  CHECK(frameHash(atLimit) == hash);
+  CHECK(*atLimit.stats.fragmentStorageBytes <= 2 * largest * sizeof(TransparentFragment));
+  CHECK(*atLimit.stats.fragmentStorageBytes >= largest * sizeof(TransparentFragment));
+  CHECK_THROWS_WITH(frame({{"store", "counted"}}, counted - 1),
+                    Catch::Contains("for the bands resolved at once (up to " + std::to_string(largest) + " fragments in a band of " +
+                                    std::to_string(tile.width) + "x4 pixels"));
+  // Bounded, each of a band's lists has room for dense's 600 transparent triangles (an odd number
+  // of 64-byte lines: 602 fragments), beside the frame's own buffers without counts; store=auto
+  // falls back to counting where that does not fit.
+  uint64_t ownBounded = 0;
+  for (const MemoryItem& i : makeMethod("abuffer")->memoryNeed(scene.width, scene.height, geometry)) ownBounded += i.bytes;
+  CHECK(ownBounded == own - 4 * uint64_t(scene.width) * uint64_t(scene.height));
+  const uint64_t bounded = ownBounded + 2 * uint64_t(tile.width) * 4 * 602 * sizeof(TransparentFragment);
+  const FrameResult boundedAtLimit = frame({{"store", "bounded"}}, bounded);
+  CHECK(frameHash(boundedAtLimit) == hash);
+  CHECK(*boundedAtLimit.stats.fragmentStorageBytes <= bounded - ownBounded);
+  CHECK_THROWS_WITH(frame({{"store", "bounded"}}, bounded - 1), Catch::Contains("store=bounded needs"));
+  CHECK(frameHash(frame({}, bounded - 1)) == hash);
+  CHECK(frame({}, bounded - 1).passes[1].name == "count");
+  CHECK(frame({}, bounded).passes[1].name == "store+resolve");
 }
 
 TEST_CASE("methods: options are checked, with the nearest name for typos", "[methods]") {

@@ -72,13 +72,16 @@ struct TileShape {
 // the worker's cache. With bands, drawSequence draws each band of a tile through all of its draws
 // (every pixel still sees the draws' fragments in draw order, then primitive order), calling
 // `begin` before the band's first fragment and `end` after its last, on the worker that draws it;
-// [x0, x1) × [y0, y1) are the band's pixels. Tiles with no triangle are skipped.
+// [x0, x1) × [y0, y1) are the band's pixels. `begin` also gets how many triangles the draws bin
+// to the band's tile: no pixel of it gets more fragments (a triangle covers a pixel centre at
+// most once, and the pieces of a clipped one do not overlap). Tiles with no triangle are skipped.
 struct TileRect {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 struct TileBands {
   int rows = 0;  // rows a band; 0: no bands (the default)
-  std::function<void(const TileRect&)> begin, end;
+  std::function<void(const TileRect&, uint32_t triangles)> begin;
+  std::function<void(const TileRect&)> end;
 };
 
 struct RendererOptions {

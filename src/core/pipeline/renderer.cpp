@@ -300,6 +300,8 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
       if (clearTiles) clears.apply(fb, rect);
       std::optional<detail::FragmentStage> stage;  // made for the tile's first draw, kept for the rest
       const int rows = bands.rows > 0 ? bands.rows : rect.y1 - rect.y0;
+      uint32_t triangles = 0;  // binned to the tile by all draws
+      for (size_t d = 0; d < draws.size(); ++d) triangles += bins[d].tileStart[tile + 1] - bins[d].tileStart[tile];
       for (int y0 = rect.y0; y0 < rect.y1; y0 += rows) {
         const detail::PixelRect band{rect.x0, y0, rect.x1, std::min(rect.y1, y0 + rows)};
         bool begun = false;
@@ -310,7 +312,7 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
           else stage->beginDraw(draws[d].program, draws[d].geometry, draws[d].drawId);
           if (!begun) {
             stage->beginTile(band);
-            if (bands.begin) bands.begin({band.x0, band.y0, band.x1, band.y1});
+            if (bands.begin) bands.begin({band.x0, band.y0, band.x1, band.y1}, triangles);
             begun = true;
           }
           detail::rasterizeTile(b, int(tile), band, state.raster.subpixelBits, options_.perFragment, *stage);
