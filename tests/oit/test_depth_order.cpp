@@ -15,14 +15,15 @@
 #include "support.h"
 
 using namespace oitref;
+using methods::FragmentDepths;
 
 namespace {
 
-std::vector<uint32_t> stableOrder(const std::vector<TransparentFragment>& list) {
+std::vector<uint32_t> stableOrder(const std::vector<FragmentDepths>& list) {
   std::vector<uint32_t> order(list.size());
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    const TransparentFragment &x = list[a], &y = list[b];
+    const FragmentDepths &x = list[a], &y = list[b];
     return x.viewDepth != y.viewDepth ? x.viewDepth < y.viewDepth : x.windowDepth < y.windowDepth;
   });
   return order;
@@ -30,15 +31,15 @@ std::vector<uint32_t> stableOrder(const std::vector<TransparentFragment>& list) 
 
 // n fragments whose keys come from `levels` distinct values (ties when small), in depth order,
 // then each moved up to `displacement` places (or shuffled when negative, reversed when 0).
-std::vector<TransparentFragment> makeList(test::BitStream& rng, uint32_t n, uint32_t levels, int displacement) {
-  std::vector<TransparentFragment> list(n);
-  for (TransparentFragment& f : list) {
+std::vector<FragmentDepths> makeList(test::BitStream& rng, uint32_t n, uint32_t levels, int displacement) {
+  std::vector<FragmentDepths> list(n);
+  for (FragmentDepths& f : list) {
     const uint32_t v = rng.next() % levels;
     f.viewDepth = v == 0 ? (rng.next() % 2 ? -0.0f : 0.0f) : float(v);
     f.windowDepth = float(rng.next() % 3) * 0.25f;
   }
   std::vector<uint32_t> sorted = stableOrder(list);
-  std::vector<TransparentFragment> out(n);
+  std::vector<FragmentDepths> out(n);
   for (uint32_t i = 0; i < n; ++i) out[i] = list[sorted[i]];
   if (displacement == 0) std::reverse(out.begin(), out.end());
   else if (displacement < 0)
@@ -60,7 +61,7 @@ TEST_CASE("depth order: the stable order by view depth, window depth and positio
   for (uint32_t n : {0u, 1u, 2u, 7u, 8u, 9u, 17u, 64u, 300u})
     for (uint32_t levels : {1u, 3u, 40u, 100000u})
       for (int displacement : {1, 3, 7, 8, 12, 40, 0, -1}) {
-        const std::vector<TransparentFragment> list = makeList(rng, n, levels, displacement);
+        const std::vector<FragmentDepths> list = makeList(rng, n, levels, displacement);
         const std::vector<uint32_t> expected = stableOrder(list);
         std::vector<uint32_t> got(n), scalar(n);
         order.sort(list.data(), n, got.data());
@@ -76,7 +77,7 @@ TEST_CASE("depth order: the stable order by view depth, window depth and positio
 TEST_CASE("depth order: keys with NaN take the scalar way", "[methods]") {
   test::BitStream rng(12);
   methods::DepthOrder order;
-  std::vector<TransparentFragment> list = makeList(rng, 50, 20, 3);
+  std::vector<FragmentDepths> list = makeList(rng, 50, 20, 3);
   list[17].viewDepth = std::nanf("");
   list[31].windowDepth = std::nanf("");
   std::vector<uint32_t> got(50), scalar(50);
@@ -98,7 +99,7 @@ TEST_CASE("depth order: two lists side by side give each list's own order", "[me
     for (uint32_t nb : lengths)
       for (int da : displacements)
         for (int db : displacements) {
-          std::vector<TransparentFragment> a = makeList(rng, na, 40, da), b = makeList(rng, nb, 3, db);
+          std::vector<FragmentDepths> a = makeList(rng, na, 40, da), b = makeList(rng, nb, 3, db);
           if (pairs % 7 == 3 && nb > 5) b[nb / 2].viewDepth = std::nanf("");
           std::vector<uint32_t> gotA(na), gotB(nb), expectedB(nb);
           order.sortPair(a.data(), na, gotA.data(), b.data(), nb, gotB.data());
@@ -114,7 +115,7 @@ TEST_CASE("depth order: two lists side by side give each list's own order", "[me
 namespace {
 
 // The most fragments before each one that belong after it (by view depth, then list position).
-uint32_t largestDisplacement(const std::vector<TransparentFragment>& list) {
+uint32_t largestDisplacement(const std::vector<FragmentDepths>& list) {
   uint32_t most = 0;
   for (size_t i = 0; i < list.size(); ++i) {
     uint32_t larger = 0;
@@ -139,7 +140,7 @@ TEST_CASE("depth order: the AVX-512 window sorts every list within its reach and
   int within = 0, refused = 0;
   for (uint32_t n : {1u, 2u, 8u, 9u, 31u, 32u, 33u, 40u, 41u, 48u, 49u, 63u, 64u, 65u, 71u, 100u, 300u})
     for (int displacement : {1, 7, 16, 24, 31, 40, 60, -1}) {
-      std::vector<TransparentFragment> list = makeList(rng, n, 1000000, displacement);
+      std::vector<FragmentDepths> list = makeList(rng, n, 1000000, displacement);
       for (uint32_t i = 0; i < n; ++i) list[i].viewDepth += float(i) * 0x1p-4f;  // distinct
       std::vector<uint32_t> got(n);
       bool tie = true;
@@ -156,14 +157,14 @@ TEST_CASE("depth order: the AVX-512 window sorts every list within its reach and
   CHECK(within > 40);
   CHECK(refused > 10);
   // The smallest fragment after 64 larger ones: the window has emitted 32 of them by then.
-  std::vector<TransparentFragment> late(65);
+  std::vector<FragmentDepths> late(65);
   for (uint32_t i = 0; i < 65; ++i) late[i].viewDepth = float(i + 1);
   late[64].viewDepth = 0.0f;
   std::vector<uint32_t> order(65);
   bool tie = false;
   CHECK_FALSE(methods::orderInRegisters(late.data(), 65, order.data(), tie));
   // Equal view depths (−0 and +0 among them) are reported as a tie, in list order.
-  std::vector<TransparentFragment> ties(20);
+  std::vector<FragmentDepths> ties(20);
   for (uint32_t i = 0; i < 20; ++i) ties[i].viewDepth = i == 3 ? -0.0f : i == 11 ? 0.0f : float(20 - i);
   REQUIRE(methods::orderInRegisters(ties.data(), 20, order.data(), tie));
   CHECK(tie);

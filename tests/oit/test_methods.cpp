@@ -414,8 +414,10 @@ TEST_CASE("methods: the A-buffer's layouts and kept lists change no bit, and its
   CHECK(*plain.stats.pixelsWithTransparency == *kept.stats.pixelsWithTransparency);
 
   // Counted, the frame stores one band's lists a thread at a time: the largest band of the
-  // renderer's tiles, bands of four rows, counted here from the kept lists. A limit of exactly
-  // that beside the frame's own buffers and counts renders; a byte less fails.
+  // renderer's tiles, bands of four rows, counted here from the kept lists, each fragment's two
+  // depths and colour (24 B: the ids only where lists are kept). A limit of exactly that beside
+  // the frame's own buffers and counts renders; a byte less fails.
+  const uint64_t record = 2 * sizeof(float) + sizeof(glm::vec4);
   const TileShape tile = renderer.tileShapeFor(scene.width, scene.height);
   uint64_t largest = 0;
   for (int y0 = 0; y0 < scene.height; y0 += 4)
@@ -429,11 +431,11 @@ TEST_CASE("methods: the A-buffer's layouts and kept lists change no bit, and its
   uint64_t own = 0;
   for (const MemoryItem& i : makeMethod("abuffer", {{"store", "counted"}})->memoryNeed(scene.width, scene.height, geometry))
     own += i.bytes;
-  const uint64_t counted = own + 2 * largest * sizeof(TransparentFragment);
+  const uint64_t counted = own + 2 * largest * record;
   const FrameResult atLimit = frame({{"store", "counted"}}, counted);
   CHECK(frameHash(atLimit) == hash);
-  CHECK(*atLimit.stats.fragmentStorageBytes <= 2 * largest * sizeof(TransparentFragment));
-  CHECK(*atLimit.stats.fragmentStorageBytes >= largest * sizeof(TransparentFragment));
+  CHECK(*atLimit.stats.fragmentStorageBytes <= 2 * largest * record);
+  CHECK(*atLimit.stats.fragmentStorageBytes >= largest * record);
   CHECK_THROWS_WITH(frame({{"store", "counted"}}, counted - 1),
                     Catch::Contains("for the bands resolved at once (up to " + std::to_string(largest) + " fragments in a band of " +
                                     std::to_string(tile.width) + "x4 pixels"));
@@ -443,7 +445,7 @@ TEST_CASE("methods: the A-buffer's layouts and kept lists change no bit, and its
   uint64_t ownBounded = 0;
   for (const MemoryItem& i : makeMethod("abuffer")->memoryNeed(scene.width, scene.height, geometry)) ownBounded += i.bytes;
   CHECK(ownBounded == own - 4 * uint64_t(scene.width) * uint64_t(scene.height));
-  const uint64_t bounded = ownBounded + 2 * uint64_t(tile.width) * 4 * 602 * sizeof(TransparentFragment);
+  const uint64_t bounded = ownBounded + 2 * uint64_t(tile.width) * 4 * 602 * record;
   const FrameResult boundedAtLimit = frame({{"store", "bounded"}}, bounded);
   CHECK(frameHash(boundedAtLimit) == hash);
   CHECK(*boundedAtLimit.stats.fragmentStorageBytes <= bounded - ownBounded);

@@ -46,7 +46,7 @@ uint64_t nextFrameId() {
   return next.fetch_add(1, std::memory_order_relaxed);
 }
 
-// Rows a band: a band of a 128-pixel-wide tile holds 512 lists (1.2 MB at dense's 71 layers).
+// Rows a band: a band of a 128-pixel-wide tile holds 512 lists (0.9 MB at dense's 71 layers).
 // Dense at 1080p, two threads, store+resolve: 2 rows 223–242 ms, 4 rows 217–239, 8 rows 223–265,
 // 32 (whole tiles) 398; each band walks its tile's triangles again.
 constexpr int kBandRows = 4;
@@ -107,7 +107,7 @@ class Abuffer final : public Method {
     const uint64_t triangles = transparentTriangles(context.geometry);
     uint64_t known = 0;
     for (const MemoryItem& i : frameBuffers(w, h, context.geometry, false)) known += i.bytes;
-    const uint64_t boundedBytes = threads * bandPixels * AbufferBand::boundedStride(triangles) * sizeof(StoredFragment);
+    const uint64_t boundedBytes = threads * bandPixels * AbufferBand::boundedStride(triangles) * AbufferBand::kRecordBytes;
     const bool useBounds = bounded(context.geometry) && known + boundedBytes <= context.memoryLimit;
     if (store_ == Store::Bounded && !useBounds)
       throw std::runtime_error("A-buffer: store=bounded needs " + formatBytes(boundedBytes) + " for the bands' stores (" +
@@ -123,7 +123,7 @@ class Abuffer final : public Method {
     result.stats.depthComplexityMean = double(tally.fragments) / (double(w) * double(h));
     result.stats.pixelsWithTransparency = tally.covered;
     uint64_t bandStore = 0;
-    for (const std::unique_ptr<AbufferBand>& b : bands_) bandStore += b->fragments.capacity() * sizeof(StoredFragment);
+    for (const std::unique_ptr<AbufferBand>& b : bands_) bandStore += b->storeBytes();
     result.stats.fragmentStorageBytes = bandStore + tally.listBytes;
     t.finish(result, AttachmentList::kOpaque);
     if (keepLists_) result.fragmentLists = std::move(kept_);
@@ -254,7 +254,7 @@ class Abuffer final : public Method {
     // with lists=keep every list besides.
     const uint64_t threads = uint64_t(context.renderer.threads());
     const uint64_t largestBand = largestBandFragments(w, h, tile);
-    const uint64_t bandBytes = threads * largestBand * sizeof(StoredFragment);
+    const uint64_t bandBytes = threads * largestBand * (AbufferBand::kRecordBytes + (keepLists_ ? AbufferBand::kIdBytes : 0));
     const uint64_t fragmentBytes = (keepLists_ ? total * sizeof(StoredFragment) : 0) + bandBytes;
     if (known + fragmentBytes > context.memoryLimit)
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments need " +
@@ -268,8 +268,7 @@ class Abuffer final : public Method {
       throw std::runtime_error("A-buffer: " + std::to_string(total) + " fragments exceed max_fragments=" +
                                std::to_string(maxFragments_) + " (" + std::to_string(total * sizeof(StoredFragment) >> 20) +
                                " MiB)" + deepestText + " Raise it with --set max_fragments=N or render smaller.");
-    for (std::unique_ptr<AbufferBand>& b : bands_)  // a larger store kept from an earlier frame goes
-      if (b->fragments.capacity() > largestBand) std::vector<StoredFragment>().swap(b->fragments);
+    for (std::unique_ptr<AbufferBand>& b : bands_) b->shrinkTo(largestBand);  // a larger store from an earlier frame goes
 
     // The whole frame's lists, for FrameResult::fragmentLists, only where they are asked for: each
     // band's rows are copied there, one run of lists a row.
@@ -286,15 +285,13 @@ class Abuffer final : public Method {
       }
     }
     storeAndResolve(context, t, run, depthOnly, st,
-                    [count, w](AbufferBand& b, const TileRect& r, uint32_t) { b.layOutCounted(r, count, w); },
+                    [this, count, w](AbufferBand& b, const TileRect& r, uint32_t) { b.layOutCounted(r, count, w, keepLists_); },
                     [&](const AbufferBand& b) {
                       if (!keepLists_) return;
                       const TileRect& r = b.rect;
-                      for (int y = r.y0; y < r.y1; ++y) {
-                        const size_t i = size_t(y - r.y0) * size_t(b.width), p = size_t(y) * w + size_t(r.x0);
-                        std::copy(b.fragments.data() + b.start[i], b.fragments.data() + b.start[i + size_t(b.width)],
-                                  lists.fragments.data() + lists.start[p]);
-                      }
+                      for (int y = r.y0, i = 0; y < r.y1; ++y)
+                        for (int x = r.x0; x < r.x1; ++x, ++i)
+                          b.copyList(size_t(i), lists.fragments.data() + lists.start[size_t(y) * w + size_t(x)]);
                     });
     FrameTally frame;
     frame.fragments = total;
@@ -354,7 +351,7 @@ const MethodInfo& abufferInfo() {
       "abuffer",
       "exact per-pixel sorted A-buffer (ground truth), OVER back to front",
       {{"precision", "float", "arithmetic of the OVER composite", {"float", "double"}},
-       {"max_fragments", "50000000", "fragment budget (32 bytes each); exceeding it is an error", {},
+       {"max_fragments", "50000000", "fragment budget (32 bytes each where the lists are kept); exceeding it is an error", {},
         OptionNumber::integer(1, 0x1p40)},
        {"lists", "none", "whether the frame's result keeps every pixel's fragments (FrameResult::fragmentLists)",
         {"none", "keep"}},

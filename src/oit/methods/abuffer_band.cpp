@@ -12,7 +12,15 @@
 namespace oitref::methods {
 namespace {
 
-using StoredFragment = TransparentFragment;
+// v sized to n elements, its allocation exactly n where it grows (the memory checks count no
+// more), its old elements not copied.
+template <typename T>
+void sizeExactly(std::vector<T>& v, size_t n) {
+  if (v.size() >= n) return;
+  v.clear();
+  v.reserve(n);
+  v.resize(n);
+}
 
 // OVER of one layer onto what lies behind it: c·α + C·(1 − α), each operation rounded in V — per
 // channel (V = S = float or double) or per lane of a vector of floats (S = float).
@@ -22,15 +30,15 @@ V over(V color, V alpha, V behind) {
   return front + under;
 }
 
-// OVER back to front of the list's fragments in `order` (front to back), onto both backgrounds.
+// OVER back to front of the list's colours in `order` (front to back), onto both backgrounds.
 template <typename Real>
-void compositeBackToFront(const StoredFragment* list, const uint32_t* order, size_t n, const glm::vec3 background[2],
+void compositeBackToFront(const glm::vec4* list, const uint32_t* order, size_t n, const glm::vec3 background[2],
                           glm::vec3 result[2]) {
   Real c[2][3];
   for (int t = 0; t < 2; ++t)
     for (int k = 0; k < 3; ++k) c[t][k] = Real(background[t][k]);
   for (size_t i = n; i-- > 0;) {
-    const glm::vec4& color = list[order[i]].color;
+    const glm::vec4& color = list[order[i]];
     const Real a = Real(color.a);
     for (int t = 0; t < 2; ++t)
       for (int k = 0; k < 3; ++k) c[t][k] = over<Real, Real>(Real(color[k]), a, c[t][k]);
@@ -71,21 +79,21 @@ class FloatLanesOver {
 // compositeBackToFront<float> of two lists, their layers side by side (each layer waits for the
 // one behind it; the other list's layers fill that wait): the back layers of the longer list that
 // the other has no partner for first, then both together.
-void compositePairBackToFront(const StoredFragment* listA, const uint32_t* orderA, size_t na, const glm::vec3 backgroundA[2],
-                              glm::vec3 resultA[2], const StoredFragment* listB, const uint32_t* orderB, size_t nb,
+void compositePairBackToFront(const glm::vec4* listA, const uint32_t* orderA, size_t na, const glm::vec3 backgroundA[2],
+                              glm::vec3 resultA[2], const glm::vec4* listB, const uint32_t* orderB, size_t nb,
                               const glm::vec3 backgroundB[2], glm::vec3 resultB[2]) {
   FloatLanesOver a(backgroundA), b(backgroundB);
   size_t i = na, j = nb;
-  for (; i > j; --i) a.layer(listA[orderA[i - 1]].color);
-  for (; j > i; --j) b.layer(listB[orderB[j - 1]].color);
-  for (; i > 0; --i, --j) a.layer(listA[orderA[i - 1]].color), b.layer(listB[orderB[j - 1]].color);
+  for (; i > j; --i) a.layer(listA[orderA[i - 1]]);
+  for (; j > i; --j) b.layer(listB[orderB[j - 1]]);
+  for (; i > 0; --i, --j) a.layer(listA[orderA[i - 1]]), b.layer(listB[orderB[j - 1]]);
   a.finish(resultA);
   b.finish(resultB);
 }
 
 }  // namespace
 
-void AbufferBand::layOutCounted(const TileRect& r, const uint32_t* count, int imageWidth) {
+void AbufferBand::layOutCounted(const TileRect& r, const uint32_t* count, int imageWidth, bool keepIds) {
   rect = r;
   width = r.x1 - r.x0;
   const size_t n = size_t(width) * size_t(r.y1 - r.y0);
@@ -95,11 +103,9 @@ void AbufferBand::layOutCounted(const TileRect& r, const uint32_t* count, int im
   for (int y = r.y0, i = 0; y < r.y1; ++y)
     for (int x = r.x0; x < r.x1; ++x, ++i) start[size_t(i)] = at, at += count[size_t(y) * size_t(imageWidth) + size_t(x)];
   start[n] = at;
-  if (fragments.size() < at) {  // exactly the band's fragments: the memory check counts no more
-    fragments.clear();
-    fragments.reserve(at);
-    fragments.resize(at);
-  }
+  sizeExactly(depths, at), sizeExactly(colors, at);
+  withIds = keepIds;
+  if (withIds) sizeExactly(ids, at);
 }
 
 void AbufferBand::layOutBounded(const TileRect& r, uint64_t bound) {
@@ -110,11 +116,19 @@ void AbufferBand::layOutBounded(const TileRect& r, uint64_t bound) {
   start.resize(n + 1);
   filled.assign(n, 0);
   for (size_t i = 0; i <= n; ++i) start[i] = i * stride;
-  if (fragments.size() < start[n]) {
-    fragments.clear();
-    fragments.reserve(start[n]);
-    fragments.resize(start[n]);
-  }
+  sizeExactly(depths, start[n]), sizeExactly(colors, start[n]);
+  withIds = false;
+}
+
+void AbufferBand::shrinkTo(uint64_t records) {
+  if (depths.capacity() > records) std::vector<FragmentDepths>().swap(depths);
+  if (colors.capacity() > records) std::vector<glm::vec4>().swap(colors);
+  if (ids.capacity() > records) std::vector<std::array<uint32_t, 2>>().swap(ids);
+}
+
+void AbufferBand::copyList(size_t i, TransparentFragment* out) const {
+  for (uint64_t k = start[i], end = k + filled[i]; k < end; ++k, ++out)
+    *out = {depths[k].windowDepth, depths[k].viewDepth, colors[k], ids[k][0], ids[k][1]};
 }
 
 void AbufferBand::resolveRow(int y, Image& opaque, Image& analysis, const Profile& profile, bool useDouble) {
@@ -128,7 +142,8 @@ void AbufferBand::resolveRow(int y, Image& opaque, Image& analysis, const Profil
     texels_[t].resize(size_t(n));
     (t == 0 ? opaque : analysis).fetchRun(y, rect.x0, n, texels_[t].data());
   }
-  auto list = [&](int i) { return fragments.data() + start[first + size_t(i)]; };
+  auto list = [&](int i) { return depths.data() + start[first + size_t(i)]; };
+  auto colorsOf = [&](int i) { return colors.data() + start[first + size_t(i)]; };
   auto backgrounds = [&](int i, glm::vec3 out[2]) {
     out[0] = glm::vec3(texels_[0][size_t(i)]), out[1] = glm::vec3(texels_[1][size_t(i)]);
   };
@@ -155,10 +170,10 @@ void AbufferBand::resolveRow(int y, Image& opaque, Image& analysis, const Profil
     glm::vec3 under[2][2], out[2][2];
     backgrounds(one, under[0]), backgrounds(i, under[1]);
     if (useDouble) {
-      composite(list(one), orders_[0].data(), length[one], under[0], out[0]);
-      composite(list(i), orders_[1].data(), length[i], under[1], out[1]);
+      composite(colorsOf(one), orders_[0].data(), length[one], under[0], out[0]);
+      composite(colorsOf(i), orders_[1].data(), length[i], under[1], out[1]);
     } else {
-      compositePairBackToFront(list(one), orders_[0].data(), length[one], under[0], out[0], list(i), orders_[1].data(),
+      compositePairBackToFront(colorsOf(one), orders_[0].data(), length[one], under[0], out[0], colorsOf(i), orders_[1].data(),
                                length[i], under[1], out[1]);
     }
     store(one, out[0]), store(i, out[1]);
@@ -168,7 +183,7 @@ void AbufferBand::resolveRow(int y, Image& opaque, Image& analysis, const Profil
     depthOrder_.sort(list(waiting), length[waiting], orders_[0].data());
     glm::vec3 under[2], out[2];
     backgrounds(waiting, under);
-    composite(list(waiting), orders_[0].data(), length[waiting], under, out);
+    composite(colorsOf(waiting), orders_[0].data(), length[waiting], under, out);
     store(waiting, out);
   }
   opaque.storeRow(y, columns_.data(), resolved, resolved_[0].data(), profile);

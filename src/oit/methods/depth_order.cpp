@@ -108,7 +108,7 @@ struct LaneInserter {
 
 // order (sorted by view depth, ties in list order) with each run of equal view depths (== : −0 and
 // +0 too) put in the order of their window depths, ties still in list order: the order of `before`.
-static void orderEqualViewRuns(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+static void orderEqualViewRuns(const FragmentDepths* list, uint32_t n, uint32_t* order) {
   for (uint32_t a = 0; a + 1 < n;) {
     uint32_t b = a + 1;
     while (b < n && list[order[b]].viewDepth == list[order[a]].viewDepth) ++b;
@@ -126,7 +126,7 @@ void DepthOrder::orderFromKeys(uint32_t n, uint32_t* order, bool sorted) {
   for (uint32_t i = 0; i < n; ++i) order[i] = keys_[i].index;
 }
 
-void DepthOrder::sortScalar(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+void DepthOrder::sortScalar(const FragmentDepths* list, uint32_t n, uint32_t* order) {
   keys_.resize(n);
   for (uint32_t i = 0; i < n; ++i) keys_[i] = {list[i].viewDepth, list[i].windowDepth, i};
   size_t moves = 0;
@@ -143,7 +143,7 @@ void DepthOrder::sortScalar(const TransparentFragment* list, uint32_t n, uint32_
   orderFromKeys(n, order, true);
 }
 
-bool DepthOrder::laneKeys(int k, const TransparentFragment* list, uint32_t n) {
+bool DepthOrder::laneKeys(int k, const FragmentDepths* list, uint32_t n) {
   LaneKeys& keys = lanes_[k];
   keys.view.resize(8 + size_t(n)), keys.index.resize(8 + size_t(n));
   std::fill_n(keys.view.begin(), 8, -INFINITY), std::fill_n(keys.index.begin(), 8, 0);
@@ -155,7 +155,7 @@ bool DepthOrder::laneKeys(int k, const TransparentFragment* list, uint32_t n) {
   return !hasNan;
 }
 
-void DepthOrder::orderFromLaneKeys(int k, const TransparentFragment* list, uint32_t n, uint32_t* order, bool sorted) {
+void DepthOrder::orderFromLaneKeys(int k, const FragmentDepths* list, uint32_t n, uint32_t* order, bool sorted) {
   const LaneKeys& keys = lanes_[k];
   if (sorted) {
     // Sorted by view depth, ties in list order: each run of equal view depths (== : −0 and +0
@@ -177,7 +177,7 @@ void DepthOrder::orderFromLaneKeys(int k, const TransparentFragment* list, uint3
   orderFromKeys(n, order, false);
 }
 
-bool DepthOrder::sortInRegisters(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+bool DepthOrder::sortInRegisters(const FragmentDepths* list, uint32_t n, uint32_t* order) {
   bool tie = false;
   if (n < 2 || !orderInRegisters(list, n, order, tie)) return false;
   if (tie) orderEqualViewRuns(list, n, order);
@@ -193,11 +193,11 @@ bool DepthOrder::lanesAvailable() {
 #endif
 }
 
-void DepthOrder::sort(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+void DepthOrder::sort(const FragmentDepths* list, uint32_t n, uint32_t* order) {
   if (!sortInRegisters(list, n, order)) sortByInsertion(list, n, order);
 }
 
-void DepthOrder::sortByInsertion(const TransparentFragment* list, uint32_t n, uint32_t* order) {
+void DepthOrder::sortByInsertion(const FragmentDepths* list, uint32_t n, uint32_t* order) {
 #if defined(__x86_64__)
   if (lanesAvailable() && n > 1) {
     if (!laneKeys(0, list, n)) return sortScalar(list, n, order);
@@ -208,7 +208,7 @@ void DepthOrder::sortByInsertion(const TransparentFragment* list, uint32_t n, ui
   sortScalar(list, n, order);
 }
 
-void DepthOrder::sortPair(const TransparentFragment* listA, uint32_t na, uint32_t* orderA, const TransparentFragment* listB,
+void DepthOrder::sortPair(const FragmentDepths* listA, uint32_t na, uint32_t* orderA, const FragmentDepths* listB,
                           uint32_t nb, uint32_t* orderB) {
   // A list that the registers' window sorts is done (the network has parallel work of its own);
   // two that it does not sort are inserted side by side.

@@ -19,7 +19,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "oitref/oit/method.h"
+#include "methods/depth_order_registers.h"
 
 namespace oitref::methods {
 
@@ -27,13 +27,13 @@ class DepthOrder {
  public:
   // order[k] = the list position of the k-th of the n fragments front to back; order must hold n
   // entries.
-  void sort(const TransparentFragment* list, uint32_t n, uint32_t* order);
+  void sort(const FragmentDepths* list, uint32_t n, uint32_t* order);
   // sort() of two lists at once (orderA, orderB: na and nb entries): the same orders, with the
   // two insertions side by side.
-  void sortPair(const TransparentFragment* listA, uint32_t na, uint32_t* orderA, const TransparentFragment* listB,
+  void sortPair(const FragmentDepths* listA, uint32_t na, uint32_t* orderA, const FragmentDepths* listB,
                 uint32_t nb, uint32_t* orderB);
   // The same order the scalar way only (the portable build's; tests compare the two).
-  void sortScalar(const TransparentFragment* list, uint32_t n, uint32_t* order);
+  void sortScalar(const FragmentDepths* list, uint32_t n, uint32_t* order);
 
  private:
   struct Key {
@@ -50,12 +50,12 @@ class DepthOrder {
   };
   // The order by depth_order_registers.h, for a list of two or more fragments that its window
   // sorts; false (order unspecified) otherwise.
-  bool sortInRegisters(const TransparentFragment* list, uint32_t n, uint32_t* order);
+  bool sortInRegisters(const FragmentDepths* list, uint32_t n, uint32_t* order);
   // sort() without the registers: insertion (in lanes with AVX2), then std::stable_sort.
-  void sortByInsertion(const TransparentFragment* list, uint32_t n, uint32_t* order);
+  void sortByInsertion(const FragmentDepths* list, uint32_t n, uint32_t* order);
   static bool lanesAvailable();
-  bool laneKeys(int k, const TransparentFragment* list, uint32_t n);
-  void orderFromLaneKeys(int k, const TransparentFragment* list, uint32_t n, uint32_t* order, bool sorted);
+  bool laneKeys(int k, const FragmentDepths* list, uint32_t n);
+  void orderFromLaneKeys(int k, const FragmentDepths* list, uint32_t n, uint32_t* order, bool sorted);
   std::vector<Key> keys_;
   LaneKeys lanes_[2];
 };

@@ -64,37 +64,22 @@ typedef uint64_t Keys8 __attribute__((vector_size(64)));
 // unsigned integers (+0 added first, so that −0 is +0) in the upper half, the list position in the
 // lower; all ones for positions at n and past it (never read). nan: a view or window depth of
 // these fragments is NaN.
-constexpr int kPrefetchFloats = 2048 / sizeof(float);
-[[OITREF_AVX512]] inline Keys8 fragmentKeys(const TransparentFragment* list, uint32_t first, uint32_t n, bool& nan) {
-  static_assert(sizeof(TransparentFragment) == 32 && offsetof(TransparentFragment, windowDepth) == 0 &&
-                offsetof(TransparentFragment, viewDepth) == 4);
+[[OITREF_AVX512]] inline Keys8 fragmentKeys(const FragmentDepths* list, uint32_t first, uint32_t n, bool& nan) {
+  static_assert(sizeof(FragmentDepths) == 8 && offsetof(FragmentDepths, windowDepth) == 0 &&
+                offsetof(FragmentDepths, viewDepth) == 4);
   const uint32_t here = listPositionsFrom(first, n);
   const float* f = reinterpret_cast<const float*>(list + first);
   typedef float F16 __attribute__((vector_size(64)));
   typedef float F8 __attribute__((vector_size(32)));
   typedef int32_t I8 __attribute__((vector_size(32)));
   typedef uint32_t U8 __attribute__((vector_size(32)));
-  F16 pairs[4];  // two fragments each
-  if (here == 8) {
-    // The lines 64 fragments (2 KiB) on, in this list or the next pixels' (a row's lists lie one
-    // after another), asked for now: with the network's work no longer hiding them, the reads
-    // waited on memory (dense 1080p, two threads: sort+composite 166–178 → 125–129 ms; 1 KiB on
-    // gained less, 4 KiB the same).
-    for (int j = 0; j < 4; ++j) __builtin_prefetch(f + kPrefetchFloats + 16 * j);
-    __builtin_memcpy(pairs, f, sizeof pairs);
-  } else {
-    for (int j = 0; j < 4; ++j) {
-      const uint32_t have = here > 2u * j ? (here - 2u * j >= 2 ? 2 : 1) : 0;
-      pairs[j] = F16(_mm512_maskz_loadu_ps(__mmask16((1u << (8 * have)) - 1), f + 16 * j));
-    }
-  }
-  // Lanes 0–3 the view depths of four fragments, lanes 4–7 their window depths.
-#define OITREF_DEPTHS_OF_FOUR 1, 9, 17, 25, 0, 8, 16, 24
-  const F8 a = __builtin_shufflevector(pairs[0], pairs[1], OITREF_DEPTHS_OF_FOUR);
-  const F8 b = __builtin_shufflevector(pairs[2], pairs[3], OITREF_DEPTHS_OF_FOUR);
-#undef OITREF_DEPTHS_OF_FOUR
-  const F8 view = __builtin_shufflevector(a, b, 0, 1, 2, 3, 8, 9, 10, 11);
-  const F8 window = __builtin_shufflevector(a, b, 4, 5, 6, 7, 12, 13, 14, 15);
+  // The eight fragments' depths in one line's worth: window depths in the even lanes, view depths
+  // in the odd ones (past n, none read).
+  F16 depths;
+  if (here == 8) __builtin_memcpy(&depths, f, sizeof depths);
+  else depths = F16(_mm512_maskz_loadu_ps(__mmask16((1u << (2 * here)) - 1), f));
+  const F8 view = __builtin_shufflevector(depths, depths, 1, 3, 5, 7, 9, 11, 13, 15);
+  const F8 window = __builtin_shufflevector(depths, depths, 0, 2, 4, 6, 8, 10, 12, 14);
   const I8 isNan = (view != view) | (window != window);
   nan |= _mm256_movemask_ps(__m256(isNan)) != 0;
   const U8 bits = U8(view + 0.0f);
@@ -156,7 +141,7 @@ template <int M>
 // orderInWindow's last block when it holds K < M registers of keys (those from `first` on): merged
 // with the window in fewer registers (mergeHalves over M + K of them), and everything emitted.
 template <int M, int K>
-[[OITREF_AVX512]] inline bool lastShortBlock(const TransparentFragment* list, uint32_t n, uint32_t first, Keys8* r, uint32_t* order,
+[[OITREF_AVX512]] inline bool lastShortBlock(const FragmentDepths* list, uint32_t n, uint32_t first, Keys8* r, uint32_t* order,
                                              Keys8& last, bool& sorted, bool& tie, bool& nan) {
   for (int j = 0; j < K; ++j) r[M + j] = fragmentKeys(list, first + 8 * j, n, nan);
   sortRegisters<K>(r + M);
@@ -170,7 +155,7 @@ template <int M, int K>
 // which the emitted order's check finds out. A key with at most 8M larger keys before it never
 // breaks that: when a key above it is emitted, the window holds 8M keys above that one.
 template <int M>
-[[gnu::target("avx512f")]] bool orderInWindow(const TransparentFragment* list, uint32_t n, uint32_t* order, bool& tie) {
+[[gnu::target("avx512f")]] bool orderInWindow(const FragmentDepths* list, uint32_t n, uint32_t* order, bool& tie) {
   constexpr uint32_t W = 8 * M;
   Keys8 r[2 * M], last = {};
   bool nan = false, sorted = true;
@@ -209,7 +194,7 @@ bool registerOrderAvailable() {
   return avx512;
 }
 
-bool orderInRegisters(const TransparentFragment* list, uint32_t n, uint32_t* order, bool& tie) {
+bool orderInRegisters(const FragmentDepths* list, uint32_t n, uint32_t* order, bool& tie) {
   if (n == 0 || !registerOrderAvailable()) return false;
   // A list that fits one window is sorted whole, in as few registers as hold it.
   if (n <= 8) return orderInWindow<1>(list, n, order, tie);
@@ -218,7 +203,7 @@ bool orderInRegisters(const TransparentFragment* list, uint32_t n, uint32_t* ord
 }
 #else
 bool registerOrderAvailable() { return false; }
-bool orderInRegisters(const TransparentFragment*, uint32_t, uint32_t*, bool&) { return false; }
+bool orderInRegisters(const FragmentDepths*, uint32_t, uint32_t*, bool&) { return false; }
 #endif
 
 }  // namespace oitref::methods

@@ -13,9 +13,14 @@
 
 #include <cstdint>
 
-#include "oitref/oit/fragment_lists.h"
 
 namespace oitref::methods {
+
+// A fragment's two depths, as the A-buffer's bands store them apart from its colour: what the
+// order reads, eight fragments to a 64-byte line.
+struct FragmentDepths {
+  float windowDepth, viewDepth;
+};
 
 // Whether this CPU has AVX-512F; without it orderInRegisters does nothing.
 bool registerOrderAvailable();
@@ -24,6 +29,6 @@ bool registerOrderAvailable();
 // whether two fragments have equal view depths (their window depths still to be ordered). False,
 // with order and tie unspecified, when the window did not sort the list, a view or window depth is
 // NaN, n is 0, or the CPU lacks AVX-512F.
-bool orderInRegisters(const TransparentFragment* list, uint32_t n, uint32_t* order, bool& tie);
+bool orderInRegisters(const FragmentDepths* list, uint32_t n, uint32_t* order, bool& tie);
 
 }  // namespace oitref::methods
