@@ -559,6 +559,23 @@ TEST_CASE("fragment ops: runs decided by their tile row's stored depth range giv
   CHECK(nanDepths.load() > 100000);  // runs that surely pass skipped the window depth
 }
 
+// An RGBA16F target cleared to a colour, with a D24 depth buffer, OVER and a depth test that does
+// not write: what the draw-sequence tests draw into (OVER does not commute, so the order shows).
+struct OverTarget {
+  Image color{makeFormat(FormatId::RGBA16F), W, H};
+  DepthBuffer depth{DepthFormat::D24, W, H};
+  Framebuffer fb;
+  PipelineState state;
+  OverTarget() {
+    color.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
+    fb.color[0] = &color, fb.depth = &depth;
+    state.blend[0] = kOver;
+    state.depth = {true, CompareFunc::LEqual, false, false};
+  }
+  OverTarget(const OverTarget&) = delete;
+  std::vector<uint8_t> bytes() const { return {color.bytes().begin(), color.bytes().end()}; }
+};
+
 TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after another", "[fragment]") {
   // Renderer::drawSequence runs every draw tile by tile; OVER does not commute, so the bytes are
   // those of separate draw() calls only if each pixel still sees the draws in order. drawId
@@ -577,23 +594,16 @@ TEST_CASE("fragment ops: a draw sequence gives the bytes of its draws one after 
     DrawStats stats[2];
     for (int sequence = 0; sequence < 2; ++sequence) {
       Renderer r(RendererOptions{3, 8, perFragment});
-      Image a(makeFormat(FormatId::RGBA16F), W, H);
-      a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
-      DepthBuffer depth(DepthFormat::D24, W, H);
-      Framebuffer fb;
-      fb.color[0] = &a, fb.depth = &depth;
-      PipelineState st;
-      st.blend[0] = kOver;
-      st.depth = {true, CompareFunc::LEqual, false, false};
+      OverTarget target;
       if (sequence) {
         std::vector<Renderer::DrawCall> draws;
         for (uint32_t d = 0; d < 5; ++d) draws.push_back({&geometries[d], program(10 + d), 10 + d});
-        stats[1] = r.drawSequence(fb, st, draws);
+        stats[1] = r.drawSequence(target.fb, target.state, draws);
       } else {
         for (uint32_t d = 0; d < 5; ++d)
-          stats[0] += r.drawSequence(fb, st, {Renderer::DrawCall{&geometries[d], program(10 + d), 10 + d}});
+          stats[0] += r.drawSequence(target.fb, target.state, {Renderer::DrawCall{&geometries[d], program(10 + d), 10 + d}});
       }
-      bytes[sequence] = std::vector<uint8_t>(a.bytes().begin(), a.bytes().end());
+      bytes[sequence] = target.bytes();
     }
     INFO("per fragment " << perFragment);
     CHECK(bytes[0] == bytes[1]);
@@ -617,18 +627,11 @@ TEST_CASE("fragment ops: a draw sequence in bands gives the bytes of whole tiles
   });
   auto draw = [&](bool perFragment, const FragmentProgram& program, const TileBands& bands) {
     Renderer r(RendererOptions{3, 8, perFragment});
-    Image a(makeFormat(FormatId::RGBA16F), W, H);
-    a.clear({0.1f, 0.2f, 0.3f, 1}, exactProfile());
-    DepthBuffer depth(DepthFormat::D24, W, H);
-    Framebuffer fb;
-    fb.color[0] = &a, fb.depth = &depth;
-    PipelineState st;
-    st.blend[0] = kOver;
-    st.depth = {true, CompareFunc::LEqual, false, false};
+    OverTarget target;
     std::vector<Renderer::DrawCall> draws;
     for (uint32_t d = 0; d < 5; ++d) draws.push_back({&geometries[d], program, d});
-    const DrawStats stats = r.drawSequence(fb, st, draws, bands);
-    return std::make_pair(std::vector<uint8_t>(a.bytes().begin(), a.bytes().end()), stats.fragmentsShaded);
+    const DrawStats stats = r.drawSequence(target.fb, target.state, draws, bands);
+    return std::make_pair(target.bytes(), stats.fragmentsShaded);
   };
   for (bool perFragment : {false, true}) {
     INFO("per fragment " << perFragment);

@@ -115,6 +115,10 @@ class Abuffer final : public Method {
                                " fragments, the transparent triangles, for each of " + std::to_string(threads) +
                                " threads), beside the frame's own " + formatBytes(known) + ", above the memory limit of " +
                                formatBytes(context.memoryLimit) + ". Use store=counted or raise --memory-limit.");
+    if (useBounds) {  // what an earlier frame kept beyond this one's need goes
+      std::vector<uint32_t>().swap(count_);
+      for (std::unique_ptr<AbufferBand>& b : bands_) b->shrinkTo(bandPixels * AbufferBand::boundedStride(triangles));
+    }
     const FrameTally tally = useBounds ? storeBounded(context, t, run, depthOnly, st, triangles)
                                        : storeCounted(context, t, run, depthOnly, st, tile);
 
