@@ -93,12 +93,17 @@ void compositePairBackToFront(const glm::vec4* listA, const uint32_t* orderA, si
 
 }  // namespace
 
-void AbufferBand::layOutCounted(const TileRect& r, const uint32_t* count, int imageWidth, bool keepIds) {
+size_t AbufferBand::beginLayout(const TileRect& r) {
   rect = r;
   width = r.x1 - r.x0;
   const size_t n = size_t(width) * size_t(r.y1 - r.y0);
   start.resize(n + 1);
   filled.assign(n, 0);
+  return n;
+}
+
+void AbufferBand::layOutCounted(const TileRect& r, const uint32_t* count, int imageWidth, bool keepIds) {
+  const size_t n = beginLayout(r);
   uint64_t at = 0;
   for (int y = r.y0, i = 0; y < r.y1; ++y)
     for (int x = r.x0; x < r.x1; ++x, ++i) start[size_t(i)] = at, at += count[size_t(y) * size_t(imageWidth) + size_t(x)];
@@ -109,12 +114,8 @@ void AbufferBand::layOutCounted(const TileRect& r, const uint32_t* count, int im
 }
 
 void AbufferBand::layOutBounded(const TileRect& r, uint64_t bound) {
-  rect = r;
-  width = r.x1 - r.x0;
-  const size_t n = size_t(width) * size_t(r.y1 - r.y0);
+  const size_t n = beginLayout(r);
   const uint64_t stride = boundedStride(bound);
-  start.resize(n + 1);
-  filled.assign(n, 0);
   for (size_t i = 0; i <= n; ++i) start[i] = i * stride;
   sizeExactly(depths, start[n]), sizeExactly(colors, start[n]);
   withIds = false;

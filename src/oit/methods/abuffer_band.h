@@ -70,6 +70,7 @@ struct AbufferBand {
   Tally tally() const;
 
  private:
+  size_t beginLayout(const TileRect& r);  // rect, width, and every list empty; returns the pixels
   std::vector<glm::vec4> texels_[2];    // a row's backgrounds in both presented images
   std::vector<glm::vec4> resolved_[2];  // the colours of its pixels with fragments, in order
   std::vector<int> columns_;            // and their columns
