@@ -107,7 +107,8 @@ class Abuffer final : public Method {
     const uint64_t triangles = transparentTriangles(context.geometry);
     uint64_t known = 0;
     for (const MemoryItem& i : frameBuffers(w, h, context.geometry, false)) known += i.bytes;
-    const uint64_t boundedBytes = threads * bandPixels * AbufferBand::boundedStride(triangles) * AbufferBand::kRecordBytes;
+    const uint64_t bandRecords = bandPixels * AbufferBand::boundedStride(triangles);  // a bounded band's store at most
+    const uint64_t boundedBytes = threads * bandRecords * AbufferBand::kRecordBytes;
     const bool useBounds = bounded(context.geometry) && known + boundedBytes <= context.memoryLimit;
     if (store_ == Store::Bounded && !useBounds)
       throw std::runtime_error("A-buffer: store=bounded needs " + formatBytes(boundedBytes) + " for the bands' stores (" +
@@ -117,7 +118,7 @@ class Abuffer final : public Method {
                                formatBytes(context.memoryLimit) + ". Use store=counted or raise --memory-limit.");
     if (useBounds) {  // what an earlier frame kept beyond this one's need goes
       std::vector<uint32_t>().swap(count_);
-      for (std::unique_ptr<AbufferBand>& b : bands_) b->shrinkTo(bandPixels * AbufferBand::boundedStride(triangles));
+      for (std::unique_ptr<AbufferBand>& b : bands_) b->shrinkTo(bandRecords);
     }
     const FrameTally tally = useBounds ? storeBounded(context, t, run, depthOnly, st, triangles)
                                        : storeCounted(context, t, run, depthOnly, st, tile);
