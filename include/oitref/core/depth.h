@@ -39,6 +39,8 @@ CompareFunc parseCompareFunc(const std::string& name);   // "less", "lequal", ..
 
 // Window z (double, any value) -> the buffer's stored representation.
 inline uint32_t encodeDepth(double windowZ, DepthFormat format);
+// The same with the UNORM rule for d16/d24 named (encodeDepthAs).
+inline uint32_t encodeDepth(double windowZ, DepthFormat format, UnormRounding rounding);
 double decodeDepth(uint32_t stored, DepthFormat format);
 // Does a fragment with stored-format depth `fragment` pass against `stored`?
 inline bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format);
@@ -84,15 +86,32 @@ class DepthBuffer {
 // Inline: the fragment stage calls these per fragment, with the format and function fixed per draw.
 // The rule once, for a format known when compiled, on one depth (D = double) or four
 // (D = lanes::d4, the span kernels of a draw).
-template <DepthFormat Format, typename D = double>
+// `Rounding` is the UNORM conversion's rule (unorm.h) for d16 and d24: ExactNearestEven rounds the
+// exact product z·(2^n − 1); Fp32Product rounds it to fp32 first, as llvmpipe converts its fp32
+// window z (lp_bld_depth.c, lp_build_depth_stencil_test → lp_build_clamped_float_to_unsigned_norm:
+// d24 is n = mantissa + 1, iround(z·16777215.0f); d16 adds 2^7 to z·(65535/65536) and keeps the
+// low 16 bits, which is the same integer). z must then be an fp32 value.
+template <DepthFormat Format, typename D = double, UnormRounding Rounding = UnormRounding::ExactNearestEven>
 inline typename lanes::With<D>::Uint encodeDepthAs(D windowZ) {
   using L = lanes::With<D>;
   const D one = lanes::splat<D>(1.0), zero = lanes::splat<D>(0.0);
   const D z = windowZ > zero ? (windowZ < one ? windowZ : one) : zero;  // the depth range; NaN -> 0
   if constexpr (Format == DepthFormat::D32F) {
     return std::bit_cast<typename L::Uint>(lanes::convert<typename L::Float>(z));
-  } else {  // exact product below 2^24, ties to even
+  } else {  // the product below 2^24, ties to even
     const D maxCode = lanes::splat<D>(Format == DepthFormat::D16 ? 0xffffu : 0xffffffu);
+    static_assert(Rounding != UnormRounding::NvidiaFixed, "no depth rule of that name");
+    if constexpr (Rounding == UnormRounding::Fp32Product) {
+      using F = typename L::Float;
+      const D product = lanes::convert<D>(lanes::convert<F>(z) * lanes::convert<F>(maxCode));
+      if constexpr (lanes::isVector<D>) {
+        typedef uint32_t u8 __attribute__((vector_size(32)));
+        const u8 bits = (u8)(product + lanes::splat<D>(0x1p52));
+        return __builtin_shufflevector(bits, bits, 0, 2, 4, 6);
+      } else {
+        return lanes::convert<typename L::Uint>(roundHalfEven<typename L::Int>(product));
+      }
+    }
     if constexpr (lanes::isVector<D>) {
       // roundHalfEven in lanes without conversions: p + 2^52 (0 ≤ p < 2^51) rounds p to an
       // integer, ties to even, in the default rounding mode (fp_environment.h), and holds that
@@ -105,13 +124,21 @@ inline typename lanes::With<D>::Uint encodeDepthAs(D windowZ) {
     }
   }
 }
-inline uint32_t encodeDepth(double windowZ, DepthFormat format) {
+inline uint32_t encodeDepth(double windowZ, DepthFormat format, UnormRounding rounding) {
+  const bool fp32 = rounding == UnormRounding::Fp32Product;
   switch (format) {
-    case DepthFormat::D16: return encodeDepthAs<DepthFormat::D16>(windowZ);
-    case DepthFormat::D24: return encodeDepthAs<DepthFormat::D24>(windowZ);
+    case DepthFormat::D16:
+      return fp32 ? encodeDepthAs<DepthFormat::D16, double, UnormRounding::Fp32Product>(windowZ)
+                  : encodeDepthAs<DepthFormat::D16>(windowZ);
+    case DepthFormat::D24:
+      return fp32 ? encodeDepthAs<DepthFormat::D24, double, UnormRounding::Fp32Product>(windowZ)
+                  : encodeDepthAs<DepthFormat::D24>(windowZ);
     case DepthFormat::D32F: break;
   }
   return encodeDepthAs<DepthFormat::D32F>(windowZ);
+}
+inline uint32_t encodeDepth(double windowZ, DepthFormat format) {
+  return encodeDepth(windowZ, format, UnormRounding::ExactNearestEven);
 }
 
 // The rule once, for a format and function known when compiled, on one stored value (U =

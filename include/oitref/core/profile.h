@@ -13,6 +13,9 @@
 //            minps/maxps; src/core/blend/blend_llvmpipe_float.h), with the lerp's multiply-add fused
 //            as on CPUs with FMA (fma=on; use "llvmpipe,fma=off" for a CPU without FMA).
 //            Texture filters in 8 bits (RGBA8: 8-bit weights, lerps of 8-bit values).
+//            Rasterization as llvmpipe's (raster=llvmpipe): the draw module's fp32 clipper and
+//            viewport, its snapping and fill rule, fp32 plane equations for depth and attributes,
+//            d16/d24 depth from the fp32 product (src/core/pipeline/llvmpipe_setup.h).
 //  nvidia    an NVIDIA Hopper GPU (H100/H200, driver 580), measured on 233,266 recorded blend
 //            cases (docs/rules.md, "Profile nvidia"; src/core/blend/blend_nvidia.h): fp16 and F11/F10
 //            stores round toward zero; UNORM conversion in fixed point with b + 4 fraction bits;
@@ -25,7 +28,8 @@
 // A profile string may override single fields: "exact,fp16=rtz", "llvmpipe,unorm=exact".
 // Keys: fp16, packed (F11/F10), minifloat (user minifloat formats): rne|rtz;
 // unorm: exact|fp32|nvidia; unorm_blend: float|integer|nvidia; float_blend: ieee|llvmpipe|nvidia;
-// fma: on|off; texture: exact|llvmpipe|nvidia (the texture filter's weights, docs/nvidia.md).
+// fma: on|off; texture: exact|llvmpipe|nvidia (the texture filter's weights, docs/nvidia.md);
+// raster: exact|llvmpipe (clipping, snapping, coverage, interpolation and depth conversion).
 #pragma once
 
 #include <string>
@@ -38,6 +42,10 @@ namespace oitref {
 
 enum class UnormBlend : uint8_t { Float, Integer, Nvidia };
 enum class FloatBlend : uint8_t { Ieee, Llvmpipe, Nvidia };
+// How the pipeline before the fragment shader computes: Exact interpolates each fragment from the
+// original triangle in double (src/core/pipeline/fragment_ops.h); Llvmpipe is Mesa 22.3.6's
+// arithmetic, fp32 from the clipper to the depth buffer (src/core/pipeline/llvmpipe_setup.h).
+enum class Rasterization : uint8_t { Exact, Llvmpipe };
 
 struct Profile {
   std::string name = "exact";
@@ -49,6 +57,7 @@ struct Profile {
   FloatBlend floatBlend = FloatBlend::Ieee;  // how float targets evaluate the blend equation
   bool fma = false;                          // llvmpipe's lerp fused (CPUs with FMA) or not
   TextureFiltering texture = TextureFiltering::Exact;  // texture filters' arithmetic (oitref/core/texture.h)
+  Rasterization raster = Rasterization::Exact;
 
   bool operator==(const Profile&) const = default;
   std::string describe() const;  // every field, e.g. for reports and failing tests

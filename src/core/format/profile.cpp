@@ -30,7 +30,8 @@ std::string Profile::describe() const {
     << ", minifloat=" << roundingName(minifloat)
     << ", unorm=" << unormName(unorm) << ", unorm_blend=" << unormBlendName(unormBlend)
     << ", float_blend=" << floatBlendName(floatBlend) << ", fma=" << (fma ? "on" : "off")
-    << ", texture=" << textureFilteringName(texture) << ")";
+    << ", texture=" << textureFilteringName(texture)
+    << ", raster=" << (raster == Rasterization::Exact ? "exact" : "llvmpipe") << ")";
   return s.str();
 }
 
@@ -47,6 +48,7 @@ Profile llvmpipeProfile() {
   p.floatBlend = FloatBlend::Llvmpipe;
   p.fma = true;
   p.texture = TextureFiltering::Llvmpipe;
+  p.raster = Rasterization::Llvmpipe;
   return p;
 }
 
@@ -102,13 +104,17 @@ Profile parseProfile(const std::string& text) {
       else if (value == "llvmpipe") p.texture = TextureFiltering::Llvmpipe;
       else if (value == "nvidia") p.texture = TextureFiltering::Nvidia;
       else throw std::invalid_argument("profile key 'texture': expected exact, llvmpipe or nvidia, got '" + value + "'");
+    } else if (key == "raster") {
+      if (value == "exact") p.raster = Rasterization::Exact;
+      else if (value == "llvmpipe") p.raster = Rasterization::Llvmpipe;
+      else throw std::invalid_argument("profile key 'raster': expected exact or llvmpipe, got '" + value + "'");
     } else if (key == "fma") {
       if (value == "on") p.fma = true;
       else if (value == "off") p.fma = false;
       else throw std::invalid_argument("profile key 'fma': expected on or off, got '" + value + "'");
     } else {
       throw std::invalid_argument("unknown profile key '" + key +
-                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma, texture)");
+                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma, texture, raster)");
     }
     overridden = true;
   }

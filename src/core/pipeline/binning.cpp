@@ -33,8 +33,11 @@ void setupChunk(const Geometry& geometry, const SetupContext& context, const Til
   out.triangles.clear();
   out.counters = {};
   out.triangles.reserve(end - begin);
-  for (size_t t = begin; t < end; ++t)
-    setupPrimitive(geometry, t, context, out.triangles, out.counters);
+  out.planes.clear();
+  if (context.rule == Rasterization::Llvmpipe)
+    for (size_t t = begin; t < end; ++t) setupPrimitiveLlvmpipe(geometry, t, context, out.triangles, out.planes, out.counters);
+  else
+    for (size_t t = begin; t < end; ++t) setupPrimitive(geometry, t, context, out.triangles, out.counters);
   out.tileCounts.assign(size_t(grid.count()), 0);
   for (const SetupTriangle& tri : out.triangles) {
     const TileRange r = tilesTouched(tri.bounds, grid);

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "pipeline/llvmpipe_setup.h"
 #include "pipeline/setup.h"
 
 namespace oitref::detail {
@@ -30,6 +31,7 @@ struct TileGrid {
 
 struct SetupChunk {
   std::vector<SetupTriangle> triangles;
+  std::vector<float> planes;  // raster=llvmpipe: each triangle's plane equations (llvmpipe_setup.h)
   std::vector<uint32_t> tileCounts;
   SetupCounters counters;
 };
@@ -41,8 +43,12 @@ struct BinnedTriangles {
   std::vector<uint32_t> tileTriangles;  // triangle ids, per tile in submission order
   std::vector<uint32_t> cursor;         // scratch for the scatter
   SetupCounters counters;
+  int planeFloats = 0;  // per triangle in SetupChunk::planes; 0 under raster=exact
 
   const SetupTriangle& triangle(uint32_t id) const { return chunks[id >> 16].triangles[id & 0xffff]; }
+  const float* planes(uint32_t id) const {
+    return planeFloats ? chunks[id >> 16].planes.data() + size_t(id & 0xffff) * size_t(planeFloats) : nullptr;
+  }
 };
 
 void setupChunk(const Geometry& geometry, const SetupContext& context, const TileGrid& grid, size_t chunk,
@@ -65,6 +71,7 @@ void setupAndBin(const std::vector<const Geometry*>& geometries, const SetupCont
   for (size_t d = 0; d < geometries.size(); ++d) {
     const size_t chunkCount = (geometries[d]->triangleCount() + kSetupChunk - 1) / kSetupChunk;
     bins[d].chunks.resize(chunkCount);
+    bins[d].planeFloats = context.rule == Rasterization::Llvmpipe ? llvmpipePlaneFloats(geometries[d]->attributeCount) : 0;
     for (size_t c = 0; c < chunkCount; ++c) items.push_back({uint32_t(d), uint32_t(c)});
   }
   parallelFor(items.size(), [&](size_t i) {

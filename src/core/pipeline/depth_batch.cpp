@@ -34,7 +34,7 @@ inline int laneMask(lanes::i4 pass) {
 #endif
 }
 
-template <DepthFormat Format, CompareFunc Func, bool Write>
+template <DepthFormat Format, CompareFunc Func, bool Write, UnormRounding Rounding>
 int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* passed) {
   using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
   Word* row = static_cast<Word*>(depth.texel(x, y));
@@ -42,7 +42,7 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
   for (; i + 4 <= n; i += 4) {
     lanes::d4 z4;
     std::memcpy(&z4, z + i, sizeof z4);
-    const lanes::u4 fragment = encodeDepthAs<Format>(z4);
+    const lanes::u4 fragment = encodeDepthAs<Format, lanes::d4, Rounding>(z4);
     lanes::u4 stored;
     if constexpr (Format == DepthFormat::D16) stored = lanes::u4{row[i], row[i + 1], row[i + 2], row[i + 3]};
     else std::memcpy(&stored, row + i, sizeof stored);
@@ -63,7 +63,7 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
     count += kLeftPack.count[mask];
   }
   for (; i < n; ++i) {
-    const uint32_t fragment = encodeDepthAs<Format>(z[i]), stored = row[i];
+    const uint32_t fragment = encodeDepthAs<Format, double, Rounding>(z[i]), stored = row[i];
     const bool pass = depthTestPassesAs<Func, Format>(fragment, stored);
     if constexpr (Write) row[i] = Word(pass ? fragment : stored);
     passed[count] = i;
@@ -162,32 +162,37 @@ DepthRunRejects runRejectsFor(CompareFunc func) {
   }
 }
 
-template <DepthFormat Format, bool Write>
+template <DepthFormat Format, bool Write, UnormRounding Rounding>
 DepthBatchTest forFunc(CompareFunc func) {
   switch (func) {
-    case CompareFunc::Never: return testBatch<Format, CompareFunc::Never, Write>;
-    case CompareFunc::Less: return testBatch<Format, CompareFunc::Less, Write>;
-    case CompareFunc::Equal: return testBatch<Format, CompareFunc::Equal, Write>;
-    case CompareFunc::LEqual: return testBatch<Format, CompareFunc::LEqual, Write>;
-    case CompareFunc::Greater: return testBatch<Format, CompareFunc::Greater, Write>;
-    case CompareFunc::NotEqual: return testBatch<Format, CompareFunc::NotEqual, Write>;
-    case CompareFunc::GEqual: return testBatch<Format, CompareFunc::GEqual, Write>;
+    case CompareFunc::Never: return testBatch<Format, CompareFunc::Never, Write, Rounding>;
+    case CompareFunc::Less: return testBatch<Format, CompareFunc::Less, Write, Rounding>;
+    case CompareFunc::Equal: return testBatch<Format, CompareFunc::Equal, Write, Rounding>;
+    case CompareFunc::LEqual: return testBatch<Format, CompareFunc::LEqual, Write, Rounding>;
+    case CompareFunc::Greater: return testBatch<Format, CompareFunc::Greater, Write, Rounding>;
+    case CompareFunc::NotEqual: return testBatch<Format, CompareFunc::NotEqual, Write, Rounding>;
+    case CompareFunc::GEqual: return testBatch<Format, CompareFunc::GEqual, Write, Rounding>;
     case CompareFunc::Always: break;
   }
-  return testBatch<Format, CompareFunc::Always, Write>;
+  return testBatch<Format, CompareFunc::Always, Write, Rounding>;
 }
 
-template <DepthFormat Format>
+template <DepthFormat Format, UnormRounding Rounding = UnormRounding::ExactNearestEven>
 DepthBatchTest forWrite(CompareFunc func, bool writeMask) {
-  return writeMask ? forFunc<Format, true>(func) : forFunc<Format, false>(func);
+  return writeMask ? forFunc<Format, true, Rounding>(func) : forFunc<Format, false, Rounding>(func);
 }
 
 }  // namespace
 
-DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMask) {
+DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMask, UnormRounding rounding) {
+  const bool fp32 = rounding == UnormRounding::Fp32Product;
   switch (format) {
-    case DepthFormat::D16: return forWrite<DepthFormat::D16>(func, writeMask);
-    case DepthFormat::D24: return forWrite<DepthFormat::D24>(func, writeMask);
+    case DepthFormat::D16:
+      return fp32 ? forWrite<DepthFormat::D16, UnormRounding::Fp32Product>(func, writeMask)
+                  : forWrite<DepthFormat::D16>(func, writeMask);
+    case DepthFormat::D24:
+      return fp32 ? forWrite<DepthFormat::D24, UnormRounding::Fp32Product>(func, writeMask)
+                  : forWrite<DepthFormat::D24>(func, writeMask);
     case DepthFormat::D32F: break;
   }
   return forWrite<DepthFormat::D32F>(func, writeMask);

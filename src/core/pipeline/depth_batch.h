@@ -12,10 +12,11 @@ namespace oitref::detail {
 
 // Tests the window depths z[0, n) of pixels (x + i, y) against `depth`, writes those that pass
 // when the draw writes depth, stores the indices i that passed in `passed` (ascending) and
-// returns their count.
+// returns their count. `rounding`: the d16/d24 conversion's rule (encodeDepthAs).
 using DepthBatchTest = int (*)(DepthBuffer& depth, int x, int y, const double* z, int n, int* passed);
 
-DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMask);
+DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMask,
+                              UnormRounding rounding = UnormRounding::ExactNearestEven);
 
 // Whether every pixel (x + i, y), i < n, fails the test for every window z in [zLow, zHigh]
 // (pipeline/depth_bounds.h): then none of them passes, whatever its exact z. The depth codes are

@@ -9,9 +9,11 @@
 
 namespace oitref::detail {
 
-void FragmentStage::beginTriangle(const SetupTriangle& t) {
+void FragmentStage::beginTriangle(const SetupTriangle& t, const float* planes) {
   triangle_ = &t;
   interpolation_ = &t.interpolation;
+  planes_ = planes;
+  if (llvmpipe_) return;  // the planes are all its fragments need
   if (depthRunRejects_ || depthRunAccepts_) depthBounds_.beginTriangle(t.interpolation);
   rejectSkip_ = rejectBackoff_ = 0;
   const int n = int(attributes_.size());

@@ -13,6 +13,9 @@ FragmentStage::FragmentStage(Framebuffer& fb, const PipelineState& state, const 
                              const Geometry* geometry, const PixelRect& viewport, uint32_t drawId)
     : fb_(fb), state_(state) {
   height_ = fb.height();
+  llvmpipe_ = state.profile.raster == Rasterization::Llvmpipe;
+  fused_ = state.profile.fma;
+  depthRounding_ = llvmpipe_ ? UnormRounding::Fp32Product : UnormRounding::ExactNearestEven;
   blenders_.reserve(kMaxColorTargets);
   bool smallFloatBound = false;  // llvmpipe keeps denormals for the whole draw then
   for (int t = 0; t < kMaxColorTargets; ++t)
@@ -39,8 +42,8 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   earlyTests_ = program.earlyFragmentTests || !(program.mayDiscard || program.writesDepth);
   earlyDepthTest_ = earlyTests_ && fb_.depth != nullptr && depth.testEnabled;
   earlyReject_ = !earlyTests_ && program.pure && !program.writesDepth && fb_.depth != nullptr && depth.testEnabled;
-  if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, depth.writeMask);
-  if (earlyReject_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, false);
+  if (earlyDepthTest_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, depth.writeMask, depthRounding_);
+  if (earlyReject_) depthBatchTest_ = depthBatchTest(fb_.depth->format(), depth.func, false, depthRounding_);
   depthRunRejects_ = earlyDepthTest_ || earlyReject_ ? depthRunRejects(fb_.depth->format(), depth.func) : nullptr;
   const bool testsDepth = fb_.depth != nullptr && depth.testEnabled;
   depthRunAccepts_ = earlyDepthTest_ && !depth.writeMask ? depthRunAccepts(fb_.depth->format(), depth.func) : nullptr;
@@ -74,6 +77,7 @@ void FragmentStage::quadDerivatives(int x, int y, double* out, int stride) const
   const double* va = vertexAttributes_.data();
   // Attributes k, k + 1 at pixel (px, py), as fragment() interpolates them there.
   auto at = [&](int px, int py, float st[2]) {
+    if (llvmpipe_) return llvmpipeAttributesAt(px, py, k, st);
     double w, b0, b1, b2, z;
     interpolate(px, double(py) * ndcScaleY_ + ndcOffsetY_, w, b0, b1, b2, z);
     for (int c = 0; c < 2; ++c)
@@ -104,6 +108,7 @@ void FragmentStage::fillInput(FragmentInput& in, int x, int y, double z, double 
 }
 
 void FragmentStage::fragment(int x, int y) {
+  if (llvmpipe_) return llvmpipeBatch(y, x, 1);
   if (interpolation_->degenerate) return;
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
   double w, b[3], z;
@@ -150,6 +155,10 @@ RunVerdict FragmentStage::runVerdict(int y, int start, int n, double zLow, doubl
 }
 
 void FragmentStage::span(int y, int x0, int x1) {
+  if (llvmpipe_) {
+    for (int start = x0; start < x1; start += kBatch) llvmpipeBatch(y, start, std::min(kBatch, x1 - start));
+    return;
+  }
   if (interpolation_->degenerate) return;
   const double yn = double(y) * ndcScaleY_ + ndcOffsetY_;
   if (positionOnly_ || flatTriangle_) {
@@ -519,7 +528,7 @@ bool FragmentStage::earlyTest(int x, int y, double z) {
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
   if (!(earlyDepthTest_ || earlyReject_)) return true;  // GL §17.3.4: no test, no depth write
-  const uint32_t fragmentDepth = encodeDepth(z, depth->format());
+  const uint32_t fragmentDepth = encodeDepth(z, depth->format(), depthRounding_);
   if (!depthTestPasses(ds.func, fragmentDepth, depth->load(x, y), depth->format())) {
     ++counters_.depthFailed;
     return false;
@@ -537,7 +546,7 @@ bool FragmentStage::afterShader(int x, int y, double z, bool discarded, bool dep
   DepthBuffer* depth = fb_.depth;
   const DepthState& ds = state_.depth;
   if (!earlyTests_ && depth != nullptr && ds.testEnabled) {
-    const uint32_t fragmentDepth = encodeDepth(depthWritten ? double(shaderDepth) : z, depth->format());
+    const uint32_t fragmentDepth = encodeDepth(depthWritten ? double(shaderDepth) : z, depth->format(), depthRounding_);
     if (!depthTestPasses(ds.func, fragmentDepth, depth->load(x, y), depth->format())) {
       ++counters_.depthFailed;
       return false;

@@ -45,8 +45,9 @@ class FragmentStage {
   // extent of its rows' stored depth ranges (rowDepthRange).
   void beginTile(const PixelRect& tile);
   // Takes the triangle's interpolation set-up (M⁻¹, clip z: setup.h) and its vertices' attributes
-  // before its fragments arrive.
-  void beginTriangle(const SetupTriangle& triangle);
+  // before its fragments arrive; under raster=llvmpipe, its plane equations (`planes`,
+  // llvmpipe_setup.h) instead.
+  void beginTriangle(const SetupTriangle& triangle, const float* planes = nullptr);
   // Asks for the memory that beginTriangle(triangle) will read (a hint; nothing changes).
   void prefetchVertices(const SetupTriangle& triangle) const {
     if (geometry_->attributeCount)
@@ -113,6 +114,12 @@ class FragmentStage {
   // early-tested already, shaded by one program_->batch call, then afterShader and blending.
   // `run`: the columns are batchX_[0] + i (FragmentBatch::run).
   void shadeAndBlendBatch(int y, int count, bool run);
+  // raster=llvmpipe (fragment_llvmpipe.cpp): the pixels [start, start + n) of row y, n ≤ kBatch,
+  // with depth, 1/w and attributes from the triangle's fp32 planes as llvmpipe's fragment shader
+  // computes them (llvmpipe_setup.h), then the early depth test, the shader and blending.
+  void llvmpipeBatch(int y, int start, int n);
+  // The attributes [k, k + 2) at pixel (x, y) of the current triangle under raster=llvmpipe.
+  void llvmpipeAttributesAt(int x, int y, int k, float out[2]) const;
   // span() for a draw whose program reads neither depths nor attributes (positionOnly_), or only
   // attributes that are the same at every pixel of the triangle in the tile (flatTriangle_): runs
   // that provably pass the depth test go to the shader as they are, without interpolation.
@@ -225,6 +232,11 @@ class FragmentStage {
   const SetupTriangle* triangle_ = nullptr;
   uint32_t drawId_ = 0;
   const TriangleInterpolation* interpolation_ = nullptr;  // of the current triangle (setup.h)
+  // raster=llvmpipe: the current triangle's planes (llvmpipe_setup.h), fused multiply-adds, and
+  // d16/d24 depth from the fp32 product; every fragment then takes llvmpipeBatch.
+  bool llvmpipe_ = false, fused_ = false;
+  const float* planes_ = nullptr;
+  UnormRounding depthRounding_ = UnormRounding::ExactNearestEven;
   double ndcScaleX_, ndcOffsetX_, ndcScaleY_, ndcOffsetY_;
   int height_;  // the framebuffer's
   bool earlyTests_;

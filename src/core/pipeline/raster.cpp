@@ -51,7 +51,7 @@ void rasterizeTile(const BinnedTriangles& bins, int tile, const PixelRect& r, in
       if (lo < hi) {
         const int runStart = x0 + int(lo), runEnd = x0 + int(hi);
         if (!begun) {
-          stage.beginTriangle(t);
+          stage.beginTriangle(t, bins.planes(id));
           begun = true;
         }
         // Runs shorter than kMinSpan (small triangles) cost less one fragment at a time.

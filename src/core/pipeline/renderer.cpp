@@ -123,6 +123,15 @@ detail::SetupContext makeContext(const Framebuffer& fb, const PipelineState& sta
   detail::SetupContext c;
   c.raster = r;
   c.clipNearFar = !state.depth.clamp;
+  c.rule = state.profile.raster;
+  c.fusedMultiplyAdd = state.profile.fma;
+  if (c.rule == Rasterization::Llvmpipe) {
+    // llvmpipe snaps to 8 sub-pixel bits (lp_rast.h, FIXED_ORDER) and, in a framebuffer object,
+    // whose rows go up as GL's window y does, takes left and bottom edges (lp_setup_tri.c,
+    // bottom_edge_rule 0; st_atom_rasterizer.c): the profile decides both.
+    c.raster.subpixelBits = 8;
+    c.raster.fill = FillConvention::BottomLeft;
+  }
   const Viewport& v = state.viewport;
   const bool whole = v.width == 0 && v.height == 0;
   c.vx = whole ? 0 : v.x;
@@ -281,7 +290,7 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
   stats.setupMs = msSince(t0);
   double clipError = 0.0;
   for (size_t d = 0; d < draws.size(); ++d) clipError = std::max(clipError, bins[d].counters.clipErrorPixels);
-  if (clipError > 1.0 / double(int64_t(1) << state.raster.subpixelBits)) {
+  if (clipError > 1.0 / double(int64_t(1) << context.raster.subpixelBits)) {
     char text[64];
     std::snprintf(text, sizeof text, "%.3g", clipError);
     throw RasterPrecisionError(std::string("the rasterizer cannot place the clipped triangles of this frame within a sub-pixel "
@@ -315,7 +324,7 @@ DrawStats Renderer::drawSequence(Framebuffer& fb, const PipelineState& state, co
             if (bands.begin) bands.begin({band.x0, band.y0, band.x1, band.y1}, triangles);
             begun = true;
           }
-          detail::rasterizeTile(b, int(tile), band, state.raster.subpixelBits, options_.perFragment, *stage);
+          detail::rasterizeTile(b, int(tile), band, context.raster.subpixelBits, options_.perFragment, *stage);
         }
         if (!begun) break;  // the tile has no triangle
         if (bands.end) bands.end({band.x0, band.y0, band.x1, band.y1});

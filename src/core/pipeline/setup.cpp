@@ -34,9 +34,13 @@ bool isInclusive(int64_t dx, int64_t dy, FillConvention fill) {
   return fill == FillConvention::TopLeft ? dx < 0 : dx > 0;  // top edge walks left, bottom edge right
 }
 
-void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVertex* v2, const uint32_t source[3],
-                  uint32_t primitiveId, const TriangleInterpolation& interpolation, const SetupContext& c,
-                  std::vector<SetupTriangle>& out, SetupCounters& counters) {
+}  // namespace
+
+void emitSnappedTriangle(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t cx, int64_t cy, const uint32_t source[3],
+                         uint32_t primitiveId, const TriangleInterpolation& interpolation, const SetupContext& c,
+                         std::vector<SetupTriangle>& out, SetupCounters& counters) {
+  const WindowVertex w0{ax, ay}, w1{bx, by}, w2{cx, cy};
+  const WindowVertex *v0 = &w0, *v1 = &w1, *v2 = &w2;
   int64_t area2 = (v1->x - v0->x) * (v2->y - v0->y) - (v2->x - v0->x) * (v1->y - v0->y);
   if (area2 == 0) return;
   const bool counterClockwise = area2 > 0;
@@ -80,8 +84,6 @@ void emitTriangle(const WindowVertex* v0, const WindowVertex* v1, const WindowVe
   ++counters.rasterized;
 }
 
-}  // namespace
-
 void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& context,
                     std::vector<SetupTriangle>& out, SetupCounters& counters) {
   ClipVertex in[3];
@@ -118,7 +120,8 @@ void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& cont
   const glm::dvec4 clip[3] = {in[0].position, in[1].position, in[2].position};
   const TriangleInterpolation interpolation = interpolationOf(clip);
   for (int i = 1; i + 1 < n; ++i)
-    emitTriangle(&w[0], &w[i], &w[i + 1], source, uint32_t(t), interpolation, context, out, counters);
+    emitSnappedTriangle(w[0].x, w[0].y, w[i].x, w[i].y, w[i + 1].x, w[i + 1].y, source, uint32_t(t), interpolation, context,
+                        out, counters);
 }
 
 TriangleInterpolation interpolationOf(const glm::dvec4 v[3]) {

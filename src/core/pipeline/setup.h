@@ -63,6 +63,10 @@ struct SetupTriangle {
 struct SetupContext {
   RasterState raster;
   bool clipNearFar = true;
+  // The profile's raster rule (profile.h): Llvmpipe sets up through setupPrimitiveLlvmpipe
+  // (llvmpipe_setup.h), with llvm.fmuladd fused where fusedMultiplyAdd.
+  Rasterization rule = Rasterization::Exact;
+  bool fusedMultiplyAdd = false;
   // Viewport in pixels.
   int vx = 0, vy = 0, vw = 0, vh = 0;
 };
@@ -78,5 +82,12 @@ struct SetupCounters {
 // Assembles, clips and sets up triangle `t` of `geometry`, appending 0 or more SetupTriangles.
 void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& context,
                     std::vector<SetupTriangle>& out, SetupCounters& counters);
+
+// The part of set-up after snapping, shared by both rules: the triangle with fixed-point vertices
+// a, b, c in S units per pixel (pixel centres at x·S + S/2) is culled or oriented, gets its
+// edges, fill rule and pixel bounds, and is appended to `out` unless it has no area or pixels.
+void emitSnappedTriangle(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t cx, int64_t cy, const uint32_t source[3],
+                         uint32_t primitiveId, const TriangleInterpolation& interpolation, const SetupContext& context,
+                         std::vector<SetupTriangle>& out, SetupCounters& counters);
 
 }  // namespace oitref::detail
