@@ -15,7 +15,8 @@
 //            Texture filters in 8 bits (RGBA8: 8-bit weights, lerps of 8-bit values).
 //            Rasterization as llvmpipe's (raster=llvmpipe): the draw module's fp32 clipper and
 //            viewport, its snapping and fill rule, fp32 plane equations for depth and attributes,
-//            d16/d24 depth from the fp32 product (src/core/pipeline/llvmpipe_setup.h).
+//            d16/d24 depth from the fp32 product (src/core/pipeline/llvmpipe_setup.h). The shaders'
+//            log and exp as gallivm's polynomials (math=llvmpipe; oitref/core/shader_builtins.h).
 //  nvidia    an NVIDIA Hopper GPU (H100/H200, driver 580), measured on 233,266 recorded blend
 //            cases (docs/rules.md, "Profile nvidia"; src/core/blend/blend_nvidia.h): fp16 and F11/F10
 //            stores round toward zero; UNORM conversion in fixed point with b + 4 fraction bits;
@@ -29,7 +30,8 @@
 // Keys: fp16, packed (F11/F10), minifloat (user minifloat formats): rne|rtz;
 // unorm: exact|fp32|nvidia; unorm_blend: float|integer|nvidia; float_blend: ieee|llvmpipe|nvidia;
 // fma: on|off; texture: exact|llvmpipe|nvidia (the texture filter's weights, docs/nvidia.md);
-// raster: exact|llvmpipe (clipping, snapping, coverage, interpolation and depth conversion).
+// raster: exact|llvmpipe (clipping, snapping, coverage, interpolation and depth conversion);
+// math: exact|llvmpipe (the shaders' log and exp).
 #pragma once
 
 #include <string>
@@ -46,6 +48,10 @@ enum class FloatBlend : uint8_t { Ieee, Llvmpipe, Nvidia };
 // original triangle in double (src/core/pipeline/fragment_ops.h); Llvmpipe is Mesa 22.3.6's
 // arithmetic, fp32 from the clipper to the depth buffer (src/core/pipeline/llvmpipe_setup.h).
 enum class Rasterization : uint8_t { Exact, Llvmpipe };
+// The GLSL builtins the methods' shaders call where GLSL leaves their precision open (log, exp):
+// Exact rounds the exact value once (the methods' det_math.h, in double); Llvmpipe is gallivm's
+// fp32 polynomials (oitref/core/shader_builtins.h), the shader's surrounding arithmetic in fp32.
+enum class ShaderMath : uint8_t { Exact, Llvmpipe };
 
 struct Profile {
   std::string name = "exact";
@@ -58,6 +64,7 @@ struct Profile {
   bool fma = false;                          // llvmpipe's lerp fused (CPUs with FMA) or not
   TextureFiltering texture = TextureFiltering::Exact;  // texture filters' arithmetic (oitref/core/texture.h)
   Rasterization raster = Rasterization::Exact;
+  ShaderMath math = ShaderMath::Exact;
 
   bool operator==(const Profile&) const = default;
   std::string describe() const;  // every field, e.g. for reports and failing tests

@@ -198,7 +198,7 @@ float absorbance(vec4 b, float z) {
   float f012 = (f12 - f01) / (z2 - z);
   float a2 = f012;
   float a1 = f01 - f012 * (z + z1);
-  float a0 = f0 - f01 * z + f012 * z * z1;
+  precise float a0 = f0 - f01 * z + f012 * z * z1;  // precise: NIR would move the constant f0 last
   float result = a0 + a1 * m[0] + a2 * m[1];
   return (isnan(result) || isinf(result)) ? OVERESTIMATION : result;
 }
@@ -230,7 +230,7 @@ void main() {
 void main() {
   vec4 c = shadeSurface();
   float b0 = fetch(b0Map).r;
-  float w = 1.0;
+  precise float w = 1.0;  // precise: NIR would multiply b0 by exp's log2(e) before the absorbance
   if (b0 >= )" + glslFloat(0.00100050033f) + R"() {
     vec4 m = fetch(momentMap) / b0;
     w = )" + std::string(o.is("saturate", "none") ? "exp(-b0 * absorbance(m, warp()))" : "clamp(exp(-b0 * absorbance(m, warp())), 0.0, 1.0)") + R"(;

@@ -31,7 +31,8 @@ std::string Profile::describe() const {
     << ", unorm=" << unormName(unorm) << ", unorm_blend=" << unormBlendName(unormBlend)
     << ", float_blend=" << floatBlendName(floatBlend) << ", fma=" << (fma ? "on" : "off")
     << ", texture=" << textureFilteringName(texture)
-    << ", raster=" << (raster == Rasterization::Exact ? "exact" : "llvmpipe") << ")";
+    << ", raster=" << (raster == Rasterization::Exact ? "exact" : "llvmpipe")
+    << ", math=" << (math == ShaderMath::Exact ? "exact" : "llvmpipe") << ")";
   return s.str();
 }
 
@@ -49,6 +50,7 @@ Profile llvmpipeProfile() {
   p.fma = true;
   p.texture = TextureFiltering::Llvmpipe;
   p.raster = Rasterization::Llvmpipe;
+  p.math = ShaderMath::Llvmpipe;
   return p;
 }
 
@@ -108,13 +110,17 @@ Profile parseProfile(const std::string& text) {
       if (value == "exact") p.raster = Rasterization::Exact;
       else if (value == "llvmpipe") p.raster = Rasterization::Llvmpipe;
       else throw std::invalid_argument("profile key 'raster': expected exact or llvmpipe, got '" + value + "'");
+    } else if (key == "math") {
+      if (value == "exact") p.math = ShaderMath::Exact;
+      else if (value == "llvmpipe") p.math = ShaderMath::Llvmpipe;
+      else throw std::invalid_argument("profile key 'math': expected exact or llvmpipe, got '" + value + "'");
     } else if (key == "fma") {
       if (value == "on") p.fma = true;
       else if (value == "off") p.fma = false;
       else throw std::invalid_argument("profile key 'fma': expected on or off, got '" + value + "'");
     } else {
       throw std::invalid_argument("unknown profile key '" + key +
-                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma, texture, raster)");
+                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma, texture, raster, math)");
     }
     overridden = true;
   }

@@ -30,6 +30,7 @@
 #include <stdexcept>
 
 #include "methods/det_math.h"
+#include "oitref/core/shader_builtins.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
 #include "methods/moment_math.h"
@@ -110,8 +111,13 @@ class Mboit final : public OpaqueFirstMethod {
     const float warpScale = unitDepth_ ? 1.0f : 2.0f, warpOffset = unitDepth_ ? 0.0f : 1.0f;
     auto linearWarp = [warpScale, warpOffset](const FragmentBatch& in, int i) { return warpScale * in.depth[i] - warpOffset; };
     const bool readsViewDepth = logWarp;  // linearWarp reads only the window depth
+    // math=llvmpipe: the GLSL's fp32 expressions (src/apps/glcheck/gl_methods.cpp, mboit) with the
+    // driver's log and exp (oitref/core/shader_builtins.h); LOG_RANGE is the double's float.
+    const bool driverMath = profile.math == ShaderMath::Llvmpipe, fused = profile.fma;
+    const float logRangeFloat = float(logRange);
     auto warp = [&, logWarp](const FragmentBatch& in, int i) {
       if (!logWarp) return linearWarp(in, i);
+      if (driverMath) return 2.0f * llvmpipe::log(in.viewDepth[i] / cam.nearPlane, fused) / logRangeFloat - 1.0f;
       return float(2.0 * detLog(double(in.viewDepth[i]) / double(cam.nearPlane)) / logRange - 1.0);
     };
     // A = float(−detLog(1 − α)), α clamped below 1; the logarithms of a batch together
@@ -121,6 +127,10 @@ class Mboit final : public OpaqueFirstMethod {
     // one logarithm (detLogFloat, as detLogFloatBatch takes it for a batch of one value), and
     // none when it is the alpha of the thread's last such batch (usually the same object's).
     auto absorbancesOf = [&](const glm::vec4* colors, int count, float* a) {
+      if (driverMath) {  // −log(1.0 − min(c.a, ALPHA_MAX))
+        for (int i = 0; i < count; ++i) a[i] = -llvmpipe::log(1.0f - std::min(colors[i].a, 1.0f - 0x1p-20f), fused);
+        return;
+      }
       const uint32_t first = std::bit_cast<uint32_t>(colors[0].a);  // a batch is never empty
       bool oneAlpha = true;
       for (int i = 1; i < count; ++i) oneAlpha &= std::bit_cast<uint32_t>(colors[i].a) == first;
@@ -234,8 +244,8 @@ class Mboit final : public OpaqueFirstMethod {
     // reconstruct (used[j] their places in the batch), the others (clear) weighted 1; the
     // exponentials of a batch together (detExpFloatBatch: float(detExp) for each, its series'
     // divisions only where they can change the float).
-    auto weightsFrom = [&fallbacks, saturate](int count, int n, const int* used, const float* b0s,
-                                              const float* absorbance, const bool* fellBack, float* w) {
+    auto weightsFrom = [&fallbacks, saturate, driverMath, fused](int count, int n, const int* used, const float* b0s,
+                                                                 const float* absorbance, const bool* fellBack, float* w) {
       double exponent[kShaderBatch];
       float weight[kShaderBatch];
       // Each loop on its own, so that each runs in vector lanes (together, GCC ran them a
@@ -244,7 +254,11 @@ class Mboit final : public OpaqueFirstMethod {
       unsigned fell = 0;  // one add per batch, not per fragment that fell back
       for (int j = 0; j < n; ++j) fell += fellBack[j];
       if (fell) fallbacks.add(fell);
-      if (n > 0) detExpFloatBatch(exponent, weight, n);  // (n > 0: GCC then sees exponent written)
+      if (driverMath) {  // exp(−b0 · absorbance) in fp32
+        for (int j = 0; j < n; ++j) weight[j] = llvmpipe::exp(-b0s[j] * absorbance[j], fused);
+      } else if (n > 0) {
+        detExpFloatBatch(exponent, weight, n);  // (n > 0: GCC then sees exponent written)
+      }
       if (saturate)
         for (int j = 0; j < n; ++j) weight[j] = std::clamp(weight[j], 0.0f, 1.0f);
       if (n == count) {  // then used[j] = j
