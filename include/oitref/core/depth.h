@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "oitref/core/texture.h"
 #include "oitref/core/unorm.h"
 
 namespace oitref {
@@ -42,6 +43,11 @@ inline uint32_t encodeDepth(double windowZ, DepthFormat format);
 // The same with the UNORM rule for d16/d24 named (encodeDepthAs).
 inline uint32_t encodeDepth(double windowZ, DepthFormat format, UnormRounding rounding);
 double decodeDepth(uint32_t stored, DepthFormat format);
+// A stored depth as a shader's texelFetch of the depth texture returns it under the profile's
+// texture unit: exact, decodeDepth rounded once to fp32; llvmpipe (d16, d24), the code converted
+// to float and multiplied by fp32(1/(2^n − 1)) (gallivm/lp_bld_conv.c,
+// lp_build_unsigned_norm_to_float, for n ≤ 24). d32f is its own bits either way.
+float fetchDepthTexel(uint32_t stored, DepthFormat format, TextureFiltering rule);
 // Does a fragment with stored-format depth `fragment` pass against `stored`?
 inline bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format);
 

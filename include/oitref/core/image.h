@@ -12,6 +12,7 @@
 #include <glm/vec4.hpp>
 
 #include "oitref/core/format.h"
+#include "oitref/core/texture.h"
 #include "oitref/core/profile.h"
 #include "oitref/core/unorm.h"
 
@@ -35,7 +36,11 @@ class Image {
   const uint8_t* texel(int x, int y) const { return bytes_.data() + (size_t(y) * width_ + x) * texelBytes_; }
   const std::vector<uint8_t>& bytes() const { return bytes_; }
 
-  // texelFetch semantics: the stored value decoded exactly.
+  // How fetch turns 8-bit UNORM codes into floats: k/255 correctly rounded (the default), or as
+  // the profile's texture unit does (texture=llvmpipe: decodeUnorm8Llvmpipe). Other formats decode
+  // exactly either way. Kept until set again.
+  void decodeFetchesAs(TextureFiltering rule);
+  // texelFetch semantics: the stored value decoded exactly (decodeFetchesAs).
   // The fp32 and 8-bit UNORM layouts are fetched inline (missing channels 0, alpha 1, as every
   // decoder gives): fp32's decoding is the copy, UNORM8's the decoder's own table of k/255 per
   // channel. Through the decoder's pointer, the call cost a composite 10 % (fp32) and a third of
@@ -113,6 +118,8 @@ class Image {
       case InlineLayout::Float32x1:
         return each([](const uint8_t* t) { glm::vec4 v(0.0f, 0.0f, 0.0f, 1.0f); std::memcpy(&v, t, 4); return v; });
       case InlineLayout::Unorm8x4:
+        if (!exactUnorm8_)
+          return each([this](const uint8_t* t) { return glm::vec4(unorm8_[t[0]], unorm8_[t[1]], unorm8_[t[2]], unorm8_[t[3]]); });
         return each([](const uint8_t* t) {
           glm::vec4 v;
           decodeUnorm8x4(t, &v.x);
@@ -129,6 +136,7 @@ class Image {
   enum class InlineLayout : uint8_t { None, Float32x4, Float32x2, Float32x1, Unorm8x4, Unorm8x2, Unorm8x1 };
   InlineLayout inlineLayout_ = InlineLayout::None;  // how fetch reads this format
   const float* unorm8_ = nullptr;                   // k/255 for each 8-bit code (the UNORM8 layouts)
+  bool exactUnorm8_ = true;                         // unorm8_ is decodeUnorm's table (decodeFetchesAs)
   std::vector<uint8_t> bytes_;
 };
 

@@ -64,6 +64,10 @@ inline uint32_t encodeUnorm(float value, int bits, UnormRounding rounding = Unor
 inline float decodeUnorm(uint32_t code, int bits) {
   return float(code) / float((uint32_t(1) << bits) - 1);  // one correctly rounded division
 }
+// llvmpipe's texture unit (its texel fetches and both of its filter paths) turns an 8-bit code
+// into float with one fp32 multiply by fp32(1/255), not decodeUnorm's division: 126 of the 256
+// codes come out an ulp away from it.
+inline float decodeUnorm8Llvmpipe(uint32_t code) { return float(code) * (1.0f / 255.0f); }
 
 // decodeUnorm(k, 8) of the four codes of an RGBA8 texel: where built with SSE4.1, the four
 // divisions in one instruction (the same IEEE division, lane by lane), which costs less than four

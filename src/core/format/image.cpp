@@ -34,6 +34,11 @@ Image::Image(Format format, int width, int height) : format_(format), width_(wid
   bytes_.assign(imageBytes(format, width, height), 0);
 }
 
+void Image::decodeFetchesAs(TextureFiltering rule) {
+  exactUnorm8_ = rule != TextureFiltering::Llvmpipe;
+  unorm8_ = exactUnorm8_ ? detail::kUnorm8Decode.data() : detail::kUnorm8DecodeLlvmpipe.data();
+}
+
 void Image::storeEncoded(uint8_t* texel, const glm::vec4& value, const Profile& profile) {
   const DefaultFloatingPoint fp;
   encodeTexel(format_, value, profile, texel);

@@ -14,5 +14,11 @@ inline const std::array<float, 256> kUnorm8Decode = [] {
   for (uint32_t k = 0; k < 256; ++k) t[k] = decodeUnorm(k, 8);
   return t;
 }();
+// The same for llvmpipe's texel fetches (decodeUnorm8Llvmpipe): Image::decodeFetchesAs.
+inline const std::array<float, 256> kUnorm8DecodeLlvmpipe = [] {
+  std::array<float, 256> t{};
+  for (uint32_t k = 0; k < 256; ++k) t[k] = decodeUnorm8Llvmpipe(k);
+  return t;
+}();
 
 }  // namespace oitref::detail

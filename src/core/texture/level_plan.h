@@ -2,6 +2,8 @@
 // coordinates and their wrapping (§8.14.2), and which levels a lookup filters (§8.14.3).
 #pragma once
 
+#include "oitref/core/unorm.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -29,10 +31,10 @@ inline int wrap(WrapMode mode, int c, int size) {
   return 0;
 }
 
-// llvmpipe's conversion of an 8-bit texel value to float: one fp32 multiply by fp32(1/255), not
-// the correctly rounded k/255 of decodeUnorm (docs/rules.md, the devices' filters). Both of its
-// filter paths (fixed_point_filter.cpp, llvmpipe_float_filter.cpp) end in it.
-inline float llvmpipeUnorm8ToFloat(int k) { return float(k) * (1.0f / 255.0f); }
+// llvmpipe's conversion of an 8-bit texel value to float (decodeUnorm8Llvmpipe, docs/rules.md, the
+// devices' filters). Both of its filter paths (fixed_point_filter.cpp, llvmpipe_float_filter.cpp)
+// end in it.
+inline float llvmpipeUnorm8ToFloat(int k) { return decodeUnorm8Llvmpipe(uint32_t(k)); }
 
 // A lookup's levels: d1 filtered NEAREST or LINEAR (linearWithin), and for a *_MIPMAP_LINEAR
 // filter d2 too, weighted by `fraction` (frac λ).

@@ -58,7 +58,12 @@ DepthHandle AttachmentList::depth(std::string name, DepthFormat format, std::str
 FrameTargets::FrameTargets(const std::vector<AttachmentDecl>& declared, const FrameContext& context)
     : pool_(context.pool) {
   const int w = context.width, h = context.height;
-  auto image = [&](const Format& f) { return pool_ ? pool_->takeImage(f, w, h) : Image(f, w, h); };
+  // Shaders fetch the attachments as the profile's texture unit converts them (Image::decodeFetchesAs).
+  auto image = [&](const Format& f) {
+    Image i = pool_ ? pool_->takeImage(f, w, h) : Image(f, w, h);
+    i.decodeFetchesAs(context.profile.texture);
+    return i;
+  };
   analysis_ = image(makeFormat(FormatId::RGBA32F));
   for (const AttachmentDecl& d : declared) {
     names_.push_back(d.name);
@@ -104,6 +109,9 @@ void FrameTargets::finish(FrameResult& result, ColorHandle final) {
   result.finalFloat = std::move(analysis_);
   for (size_t i = 0; i < names_.size(); ++i)
     if (!isDepth_[i]) result.dump.emplace_back(names_[i], std::move(colors_[slot_[i]]));
+  // The result is read as stored values (metrics, files, comparisons): exact decoding again.
+  result.final8.decodeFetchesAs(TextureFiltering::Exact);
+  for (auto& [name, image] : result.dump) image.decodeFetchesAs(TextureFiltering::Exact);
 }
 
 glm::mat4 PassRunner::viewProjection() const {
