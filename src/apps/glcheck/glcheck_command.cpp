@@ -197,9 +197,12 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
   tools::addMethodSetOption(scene, s->sets);
   scene->add_option("--size", s->size, "Resolution WxH, or 'scene' for the scene's own")->capture_default_str();
   tools::addProfileOption(scene, s->options.profile, "oitref profile to compare with");
-  scene->add_option("--tolerance", s->options.tolerance, "Per-pixel error allowed on the RGBA8 image (default 1.5/255: one step passes, two fail)");
-  scene->add_option("--min-share", s->options.minShare, "Share of pixels within tolerance a method needs")
-      ->capture_default_str()
+  scene->add_option("--tolerance", s->options.tolerance,
+                    "Per-pixel error allowed on the RGBA8 image (default 0 for profiles with raster=llvmpipe, where "
+                    "every attachment must be bit-equal too; else 1.5/255: one step passes, two fail)")
+      ->check(CLI::Range(0.0, 1.0));
+  scene->add_option("--min-share", s->options.minShare,
+                    "Share of pixels within tolerance a method needs (default 1 with raster=llvmpipe, else 0.99)")
       ->check(CLI::Range(0.0, 1.0));
   tools::addMemoryLimitOption(scene, s->memoryLimit);
   scene->add_option("--time", s->options.timeRuns,

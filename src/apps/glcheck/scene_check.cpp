@@ -34,8 +34,12 @@ std::string percent(double share) {
 void printHeader(std::ostream& out, const std::string& scene, int w, int h, const Profile& profile,
                  const SceneCheckOptions& o) {
   char line[256];
-  std::snprintf(line, sizeof line, "scene %s  %dx%d  oitref profile %s  tolerance %.3g (%.2f RGBA8 steps), pass at ≥ %s\n",
-                scene.c_str(), w, h, profile.name.c_str(), o.tolerance, o.tolerance * 255.0, percent(o.minShare).c_str());
+  if (o.tolerance == 0.0 && o.minShare == 1.0)
+    std::snprintf(line, sizeof line, "scene %s  %dx%d  oitref profile %s  bit-exact: every pixel and attachment equal\n",
+                  scene.c_str(), w, h, profile.name.c_str());
+  else
+    std::snprintf(line, sizeof line, "scene %s  %dx%d  oitref profile %s  tolerance %.3g (%.2f RGBA8 steps), pass at ≥ %s\n",
+                  scene.c_str(), w, h, profile.name.c_str(), o.tolerance, o.tolerance * 255.0, percent(o.minShare).c_str());
   out << line;
   out << "  method   RGBA8: RMSE     max       ≤ tol     equal    RGBA32F: RMSE  max        attachments bit-equal\n";
 }
@@ -106,7 +110,18 @@ void printTimings(std::ostream& out, const std::vector<SceneCheckRow>& rows, con
 
 }  // namespace
 
-std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCheckOptions& o, std::ostream& out) {
+SceneCheckOptions resolvedSceneCheckOptions(const SceneCheckOptions& options, bool* bitExact) {
+  SceneCheckOptions o = options;
+  const bool wholePipeline = parseProfile(o.profile).raster == Rasterization::Llvmpipe;
+  if (o.tolerance < 0.0) o.tolerance = wholePipeline ? 0.0 : 1.5 / 255.0;
+  if (o.minShare < 0.0) o.minShare = wholePipeline ? 1.0 : 0.99;
+  if (bitExact) *bitExact = o.tolerance == 0.0 && o.minShare == 1.0;
+  return o;
+}
+
+std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCheckOptions& given, std::ostream& out) {
+  bool bitExact = false;
+  const SceneCheckOptions o = resolvedSceneCheckOptions(given, &bitExact);
   const Profile profile = parseProfile(o.profile);
   const std::vector<std::string> methodNames = o.methods.empty() ? glMethodNames() : o.methods;
   for (const std::string& m : methodNames)
@@ -141,6 +156,11 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
       for (const auto& [attachment, image] : ours.dump)
         row.attachmentsBitEqual.emplace_back(attachment, shareBitEqual(gl.read(attachment), image));
       row.pass = row.presented.shareWithin() >= o.minShare && row.presented.nonFinitePixels == 0;
+      // Bit-exact: the RGBA32F copy and every declared attachment as well.
+      if (bitExact) {
+        row.pass = row.pass && row.analysis.pixelsDiffering == 0;
+        for (const auto& [attachment, share] : row.attachmentsBitEqual) row.pass = row.pass && share == 1.0;
+      }
       printRow(out, row);
       if (!o.heatmaps.empty()) {
         const std::filesystem::path base = std::filesystem::path(o.heatmaps) / (sceneName + "_" + name);

@@ -21,12 +21,13 @@ struct SceneCheckOptions {
   std::map<std::string, std::string> methodOptions;  // given to every method checked (--set)
   int width = 0, height = 0;         // 0: the scene's resolution
   std::string profile = "llvmpipe";
-  // Why these defaults (docs/rules.md, "glcheck scene"): oitref does not model a driver's
-  // attribute and depth interpolation, so shader inputs differ by a few fp32 ulps (llvmpipe
-  // delivers a constant 0.3 as 0.300000042). That flips RGBA8 rounding where a colour sits on a
-  // tie (0.3·255 = 76.5) by one step, and changes the winner of depth ties where surfaces cross.
-  double tolerance = 1.5 / 255.0;    // per-pixel error allowed on the RGBA8 image: one step passes
-  double minShare = 0.99;            // pixels within tolerance a method must reach to pass
+  // Negative: the profile's default (docs/rules.md, "glcheck scene"). A profile whose raster rule
+  // is llvmpipe's models the whole pipeline, so the check is bit-exact: tolerance 0, every pixel,
+  // and every declared attachment and the RGBA32F copy bit-equal too. Other profiles interpolate
+  // exactly where the driver does not, which flips RGBA8 roundings by one step: tolerance 1.5/255
+  // (one step passes) at 99 % of the pixels.
+  double tolerance = -1.0;           // per-pixel error allowed on the RGBA8 image
+  double minShare = -1.0;            // pixels within tolerance a method must reach to pass
   uint64_t memoryLimit = UINT64_MAX;  // for oitref's frames (checkMemory)
   std::string heatmaps;              // folder for GL/oitref images and error heatmaps; empty: none
   int threads = 0;                   // oitref's renderer threads; 0: every hardware thread
@@ -40,6 +41,10 @@ struct SceneCheckRow {
   bool pass = false;
   std::optional<MethodTiming> timing;
 };
+
+// The options with the profile's defaults in place of the negative ones; `bitExact` where the
+// resulting check is (tolerance 0 at 100 %).
+SceneCheckOptions resolvedSceneCheckOptions(const SceneCheckOptions& options, bool* bitExact = nullptr);
 
 // Renders and compares; prints a table per scene to `out`. Throws on GL or scene errors.
 std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCheckOptions& options, std::ostream& out);
