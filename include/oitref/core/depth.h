@@ -47,7 +47,12 @@ double decodeDepth(uint32_t stored, DepthFormat format);
 // texture unit: exact, decodeDepth rounded once to fp32; llvmpipe (d16, d24), the code converted
 // to float and multiplied by fp32(1/(2^n − 1)) (gallivm/lp_bld_conv.c,
 // lp_build_unsigned_norm_to_float, for n ≤ 24). d32f is its own bits either way.
-float fetchDepthTexel(uint32_t stored, DepthFormat format, TextureFiltering rule);
+inline float fetchDepthTexel(uint32_t stored, DepthFormat format, TextureFiltering rule);
+// The stored depth a shader compares with when it reads the texel (fetchDepthTexel) and rounds
+// it back to a code, round-to-nearest-even of v·(2^n − 1) in double (depth peeling's GLSL); the
+// stored value itself for d32f, and for the exact rule, whose round trip gives it back. Under
+// llvmpipe's, codes near 1 can come back one or two away.
+inline uint32_t depthCodeAsFetched(uint32_t stored, DepthFormat format, TextureFiltering rule);
 // Does a fragment with stored-format depth `fragment` pass against `stored`?
 inline bool depthTestPasses(CompareFunc func, uint32_t fragment, uint32_t stored, DepthFormat format);
 
@@ -145,6 +150,36 @@ inline uint32_t encodeDepth(double windowZ, DepthFormat format, UnormRounding ro
 }
 inline uint32_t encodeDepth(double windowZ, DepthFormat format) {
   return encodeDepth(windowZ, format, UnormRounding::ExactNearestEven);
+}
+// llvmpipe's texelFetch of a d16/d24 code, and the code a shader rounds it back to
+// (fetchDepthTexel, depthCodeAsFetched), on one code (U = uint32_t) or four (U = lanes::u4).
+template <typename U>
+inline auto llvmpipeDepthTexel(U stored, double maxCode) {
+  using F = std::conditional_t<lanes::isVector<U>, lanes::f4, float>;
+  const float reciprocal = float(1.0 / maxCode);  // fp32(1/(2^n − 1))
+  return lanes::convert<F>(stored) * reciprocal;
+}
+template <typename U>
+inline U llvmpipeDepthCodeAsFetched(U stored, double maxCode) {
+  using D = std::conditional_t<lanes::isVector<U>, lanes::d4, double>;
+  const D p = lanes::convert<D>(llvmpipeDepthTexel(stored, maxCode)) * lanes::splat<D>(maxCode);
+  if constexpr (lanes::isVector<U>) {  // p + 2^52 rounds p (< 2^51) to an integer, ties to even (encodeDepthAs)
+    typedef uint32_t u8 __attribute__((vector_size(32)));
+    const u8 bits = (u8)(p + lanes::splat<D>(0x1p52));
+    return __builtin_shufflevector(bits, bits, 0, 2, 4, 6);
+  } else {
+    return roundHalfEven(p);
+  }
+}
+inline float fetchDepthTexel(uint32_t stored, DepthFormat format, TextureFiltering rule) {
+  if (format == DepthFormat::D32F) return std::bit_cast<float>(stored);
+  const double maxCode = format == DepthFormat::D16 ? 65535.0 : 16777215.0;
+  if (rule == TextureFiltering::Llvmpipe) return llvmpipeDepthTexel(stored, maxCode);
+  return float(double(stored) / maxCode);
+}
+inline uint32_t depthCodeAsFetched(uint32_t stored, DepthFormat format, TextureFiltering rule) {
+  if (format == DepthFormat::D32F || rule != TextureFiltering::Llvmpipe) return stored;
+  return llvmpipeDepthCodeAsFetched(stored, format == DepthFormat::D16 ? 65535.0 : 16777215.0);
 }
 
 // The rule once, for a format and function known when compiled, on one stored value (U =

@@ -265,10 +265,12 @@ using FragmentBatchShader = std::function<void(const FragmentBatch& in, Fragment
 // A depth test that a shader applies itself (depth peeling's test against the previous layer):
 // it discards exactly the fragments for which depthTestPasses(func, encodeDepth(gl_FragCoord.z,
 // buffer's format), the depth stored in `buffer` at the fragment's pixel, buffer's format) fails,
-// and for them does nothing else. None where buffer is null.
+// and for them does nothing else. None where buffer is null. `read`: how the shader reads the
+// stored depth back (depthCodeAsFetched; exact: the stored value).
 struct ShaderDepthTest {
   const DepthBuffer* buffer = nullptr;
   CompareFunc func = CompareFunc::Always;
+  TextureFiltering read = TextureFiltering::Exact;
 };
 
 struct FragmentProgram {

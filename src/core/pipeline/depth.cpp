@@ -45,12 +45,6 @@ double decodeDepth(uint32_t stored, DepthFormat format) {
   return double(stored) / double(fixedMax(format));
 }
 
-float fetchDepthTexel(uint32_t stored, DepthFormat format, TextureFiltering rule) {
-  if (format == DepthFormat::D32F) return std::bit_cast<float>(stored);
-  if (rule == TextureFiltering::Llvmpipe) return float(stored) * float(1.0 / double(fixedMax(format)));
-  return float(decodeDepth(stored, format));
-}
-
 DepthBuffer::DepthBuffer(DepthFormat format, int width, int height)
     : format_(format), width_(width), height_(height) {
   const size_t n = size_t(width) * size_t(height);

@@ -34,8 +34,32 @@ inline int laneMask(lanes::i4 pass) {
 #endif
 }
 
-template <DepthFormat Format, CompareFunc Func, bool Write, UnormRounding Rounding>
+template <DepthFormat Format, CompareFunc Func, bool Write, UnormRounding Rounding, bool Fetched = false>
 int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* passed) {
+  if constexpr (Fetched) {  // a shader's test against stored depths as llvmpipe fetches them
+    using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
+    const Word* row = static_cast<const Word*>(depth.texel(x, y));
+    constexpr double maxCode = Format == DepthFormat::D16 ? 65535.0 : 16777215.0;
+    int count = 0, i = 0;
+    for (; i + 4 <= n; i += 4) {
+      lanes::d4 z4;
+      std::memcpy(&z4, z + i, sizeof z4);
+      const lanes::u4 fragment = encodeDepthAs<Format, lanes::d4, Rounding>(z4);
+      const lanes::u4 stored = llvmpipeDepthCodeAsFetched(lanes::u4{row[i], row[i + 1], row[i + 2], row[i + 3]}, maxCode);
+      const int mask = laneMask(depthTestPassesAs<Func, Format>(fragment, stored));
+      lanes::i4 index;
+      std::memcpy(&index, kLeftPack.lanes[mask], sizeof index);
+      index += i;
+      std::memcpy(passed + count, &index, sizeof index);
+      count += kLeftPack.count[mask];
+    }
+    for (; i < n; ++i) {
+      const uint32_t fragment = encodeDepthAs<Format, double, Rounding>(z[i]);
+      passed[count] = i;
+      count += depthTestPassesAs<Func, Format>(fragment, llvmpipeDepthCodeAsFetched(uint32_t(row[i]), maxCode));
+    }
+    return count;
+  }
   using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
   Word* row = static_cast<Word*>(depth.texel(x, y));
   int count = 0, i = 0;
@@ -196,6 +220,31 @@ DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMa
     case DepthFormat::D32F: break;
   }
   return forWrite<DepthFormat::D32F>(func, writeMask);
+}
+
+namespace {
+
+template <DepthFormat Format>
+DepthBatchTest fetchedFor(CompareFunc func) {
+  constexpr UnormRounding E = UnormRounding::ExactNearestEven;
+  switch (func) {
+    case CompareFunc::Never: return testBatch<Format, CompareFunc::Never, false, E, true>;
+    case CompareFunc::Less: return testBatch<Format, CompareFunc::Less, false, E, true>;
+    case CompareFunc::Equal: return testBatch<Format, CompareFunc::Equal, false, E, true>;
+    case CompareFunc::LEqual: return testBatch<Format, CompareFunc::LEqual, false, E, true>;
+    case CompareFunc::Greater: return testBatch<Format, CompareFunc::Greater, false, E, true>;
+    case CompareFunc::NotEqual: return testBatch<Format, CompareFunc::NotEqual, false, E, true>;
+    case CompareFunc::GEqual: return testBatch<Format, CompareFunc::GEqual, false, E, true>;
+    case CompareFunc::Always: break;
+  }
+  return testBatch<Format, CompareFunc::Always, false, E, true>;
+}
+
+}  // namespace
+
+DepthBatchTest shaderDepthBatchTest(DepthFormat format, CompareFunc func, TextureFiltering read) {
+  if (read != TextureFiltering::Llvmpipe || format == DepthFormat::D32F) return depthBatchTest(format, func, false);
+  return format == DepthFormat::D16 ? fetchedFor<DepthFormat::D16>(func) : fetchedFor<DepthFormat::D24>(func);
 }
 
 DepthRunRejects depthRunRejects(DepthFormat format, CompareFunc func) {

@@ -17,6 +17,9 @@ using DepthBatchTest = int (*)(DepthBuffer& depth, int x, int y, const double* z
 
 DepthBatchTest depthBatchTest(DepthFormat format, CompareFunc func, bool writeMask,
                               UnormRounding rounding = UnormRounding::ExactNearestEven);
+// A shader's own test (ShaderDepthTest): no writes, the stored depths read as the shader reads
+// them (depthCodeAsFetched under `read`).
+DepthBatchTest shaderDepthBatchTest(DepthFormat format, CompareFunc func, TextureFiltering read);
 
 // Whether every pixel (x + i, y), i < n, fails the test for every window z in [zLow, zHigh]
 // (pipeline/depth_bounds.h): then none of them passes, whatever its exact z. The depth codes are

@@ -58,7 +58,7 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
   const ShaderDepthTest& discard = program.discardTest;
   const bool discardEarly = discard.buffer != nullptr && program.pure && !program.writesDepth;
   discardBuffer_ = discardEarly ? const_cast<DepthBuffer*>(discard.buffer) : nullptr;
-  discardBatchTest_ = discardEarly ? depthBatchTest(discard.buffer->format(), discard.func, false) : nullptr;
+  discardBatchTest_ = discardEarly ? shaderDepthBatchTest(discard.buffer->format(), discard.func, discard.read) : nullptr;
   skipsWindowDepth_ = program.batch && !program.readsDepth && earlyTests_ && discard.buffer == nullptr;
   // Only the attributes the shader reads are interpolated (FragmentProgram::attributesRead).
   size_t n = size_t(geometry ? geometry->attributeCount : 0);

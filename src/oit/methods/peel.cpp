@@ -49,23 +49,17 @@ class Peel final : public OpaqueFirstMethod {
       const DepthFormat format = peeledDepth.format();
       // The fragment is kept where it lies strictly behind the previous layer: the shader's own
       // depth test, declared so that the pipeline can skip shading what it discards.
-      const ShaderDepthTest behindPeeled{&peeledDepth, CompareFunc::Greater};
-      // Under texture=llvmpipe the shader reads D3 as the driver's texelFetch converts it
-      // (fetchDepthTexel) and rounds that back to a code, as the GLSL version must (glcheck):
-      // the code can come back one or two away from the stored one near 1. The pipeline's own
-      // test, which compares stored codes, is then not declared.
-      const bool fetchedCodes = context.profile.texture == TextureFiltering::Llvmpipe && format != DepthFormat::D32F;
-      const double maxCode = format == DepthFormat::D16 ? 65535.0 : 16777215.0;
-      auto peeledCode = [&](int x, int y) {
-        const uint32_t stored = peeledDepth.load(x, y);
-        if (!fetchedCodes) return stored;
-        return roundHalfEven(double(fetchDepthTexel(stored, format, context.profile.texture)) * maxCode);
-      };
+      // The shader reads D3 as the profile's texelFetch returns it and rounds that back to a code
+      // (depthCodeAsFetched), as the GLSL version must: under llvmpipe's, a code near 1 can come
+      // back one or two away from the stored one (glcheck).
+      const TextureFiltering read = context.profile.texture;
+      const ShaderDepthTest behindPeeled{&peeledDepth, CompareFunc::Greater, read};
       run.transparentBatchPass("peel " + std::to_string(pass + 1), layerFb, solid,  // step 7
                                [&](const FragmentBatch& in, const glm::vec4* colors, FragmentBatchOutput& out) {
                                  for (int i = 0; i < in.count; ++i) {
                                    if (!depthTestPasses(behindPeeled.func, encodeDepth(in.depth[i], format),
-                                                        peeledCode(in.x[i], in.y), format)) {
+                                                        depthCodeAsFetched(peeledDepth.load(in.x[i], in.y), format, read),
+                                                        format)) {
                                      out.discard(i);
                                      continue;
                                    }
@@ -73,7 +67,7 @@ class Peel final : public OpaqueFirstMethod {
                                    out.write(i, 0, premultiplied(c));
                                  }
                                },
-                               /*mayDiscard=*/true, /*pure=*/true, fetchedCodes ? ShaderDepthTest{} : behindPeeled);
+                               /*mayDiscard=*/true, /*pure=*/true, behindPeeled);
       const uint64_t peeled = result.passes.back().stats.fragmentsWritten;
       if (peeled == 0) exhausted = true;
       else ++peeledPasses;
