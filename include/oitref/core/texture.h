@@ -90,6 +90,13 @@ double linearToSrgb(double linear);
 // λ_base = log2 ρ, ρ = max(‖(∂u/∂x, ∂v/∂x)‖, ‖(∂u/∂y, ∂v/∂y)‖) in texels (§8.14.1, with
 // u = s·w_t, v = t·h_t); what a 2×2 quad's differences give.
 double lodFromDerivatives(double dsdx, double dtdx, double dsdy, double dtdy, int width, int height);
+// llvmpipe's λ (Mesa 22.3.6 defaults: no rho approximation, no brilinear, one λ per quad;
+// gallivm/lp_bld_sample.c, lp_build_rho and lp_build_lod_selector), all in fp32: the quad's
+// differences (∂/∂x between its top-left and top-right pixel, ∂/∂y between its top-left and
+// the one above it: lp_build_packed_ddx_ddy_twocoord) times the size, squared, summed per
+// direction, the larger of the two, then lp_build_fast_log2 (exponent − 1 plus the mantissa in
+// [1, 2)) times ½.
+float llvmpipeLod(float dsdx, float dtdx, float dsdy, float dtdy, int width, int height);
 
 // The filtered colour at (s, t) for the level-of-detail λ_base (before the sampler's bias and
 // clamp, which this applies, §8.14.1): magnified when λ ≤ 0 (§8.14), else minified by the

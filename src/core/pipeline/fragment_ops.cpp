@@ -74,10 +74,22 @@ void FragmentStage::beginDraw(const FragmentProgram& program, const Geometry* ge
 
 void FragmentStage::quadDerivatives(int x, int y, double* out, int stride) const {
   const int n = int(attributes_.size()), k = derivativesOf_;
+  if (llvmpipe_) {
+    // llvmpipe's per quad (lp_bld_quad.c): top-right minus top-left, the row above minus top-left,
+    // in fp32, for every pixel of the quad.
+    const int x0 = x & ~1, y0 = y & ~1;
+    float topLeft[2], topRight[2], above[2];
+    llvmpipeAttributesAt(x0, y0, k, topLeft), llvmpipeAttributesAt(x0 + 1, y0, k, topRight);
+    llvmpipeAttributesAt(x0, y0 + 1, k, above);
+    for (int c = 0; c < 2; ++c) {
+      out[c * stride] = double(topRight[c] - topLeft[c]);
+      out[(2 + c) * stride] = double(above[c] - topLeft[c]);
+    }
+    return;
+  }
   const double* va = vertexAttributes_.data();
   // Attributes k, k + 1 at pixel (px, py), as fragment() interpolates them there.
   auto at = [&](int px, int py, float st[2]) {
-    if (llvmpipe_) return llvmpipeAttributesAt(px, py, k, st);
     double w, b0, b1, b2, z;
     interpolate(px, double(py) * ndcScaleY_ + ndcOffsetY_, w, b0, b1, b2, z);
     for (int c = 0; c < 2; ++c)

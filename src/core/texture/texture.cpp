@@ -117,4 +117,15 @@ double lodFromDerivatives(double dsdx, double dtdx, double dsdy, double dtdy, in
   return std::log2(rho);
 }
 
+float llvmpipeLod(float dsdx, float dtdx, float dsdy, float dtdy, int width, int height) {
+  const float w = float(width), h = float(height);
+  const float sx = dsdx * w, sy = dsdy * w, tx = dtdx * h, ty = dtdy * h;
+  const float rhoX = sx * sx + tx * tx, rhoY = sy * sy + ty * ty;
+  const float rho = rhoX > rhoY ? rhoX : rhoY;
+  const uint32_t bits = std::bit_cast<uint32_t>(rho);
+  const float exponent = float(int32_t((bits >> 23) & 255u) - 128);  // lp_build_extract_exponent(x, −1)
+  const float mantissa = std::bit_cast<float>((bits & 0x007fffffu) | 0x3f800000u);
+  return (exponent + mantissa) * 0.5f;
+}
+
 }  // namespace oitref

@@ -60,7 +60,11 @@ ScenePart particlePart(const SceneObject& o, const Camera& camera) {
 glm::vec4 sampleSurfaceTexture(const SceneObject& object, float s, float t, const double* d, int stride,
                                TextureFiltering filtering) {
   const TextureLevel& base = object.texture->level(0);
-  const double lod = d ? lodFromDerivatives(d[0], d[stride], d[2 * stride], d[3 * stride], base.width, base.height) : 0.0;
+  // llvmpipe's λ from its quad differences (fp32 values, which the stage's llvmpipe derivatives are).
+  const double lod = !d                                       ? 0.0
+                     : filtering == TextureFiltering::Llvmpipe ? double(llvmpipeLod(float(d[0]), float(d[stride]), float(d[2 * stride]),
+                                                                                  float(d[3 * stride]), base.width, base.height))
+                                                               : lodFromDerivatives(d[0], d[stride], d[2 * stride], d[3 * stride], base.width, base.height);
   return sampleTexture(*object.texture, object.sampler, s, t, lod, filtering);
 }
 
