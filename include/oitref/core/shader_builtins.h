@@ -15,11 +15,14 @@
 
 namespace oitref::llvmpipe {
 
-inline float multiplyAdd(float a, float b, float c, bool fused) { return fused ? __builtin_fmaf(a, b, c) : a * b + c; }
+// Always inlined, so that a caller built for FMA (a batch kernel) gets the instruction, not a call.
+#define OITREF_BUILTIN [[gnu::always_inline]] inline
+
+OITREF_BUILTIN float multiplyAdd(float a, float b, float c, bool fused) { return fused ? __builtin_fmaf(a, b, c) : a * b + c; }
 
 // lp_build_polynomial: odd and even terms apart in powers of x², then odd·x + even.
 template <int N>
-inline float polynomial(float x, const double (&coefficients)[N], bool fused) {
+OITREF_BUILTIN float polynomial(float x, const double (&coefficients)[N], bool fused) {
   const float x2 = x * x;
   float even = 0.0f, odd = 0.0f;
   bool haveEven = false, haveOdd = false;
@@ -45,7 +48,7 @@ inline constexpr double kLog2Polynomial[5] = {double(2.88539009343309178325L), d
 
 // lp_build_exp2: x clamped to [−126.99999, 128] (NaN kept), 2^⌊x⌋ from the exponent bits times
 // the polynomial of x − ⌊x⌋.
-inline float exp2(float x, bool fused) {
+OITREF_BUILTIN float exp2(float x, bool fused) {
   if (!std::isnan(x)) x = std::fmax(-126.99999f, std::fmin(128.0f, x));
   const float whole = std::floor(x);
   const float fraction = x - whole;
@@ -57,7 +60,7 @@ inline float exp2(float x, bool fused) {
 // lp_build_log2_safe: the exponent plus y·P(y²), y = (m − 1)/(m + 1) for the mantissa m in
 // [1, 2); +inf for x ≥ +inf, −inf for ±0, NaN below 0 (its ordered comparisons let a NaN through
 // the polynomial).
-inline float log2(float x, bool fused) {
+OITREF_BUILTIN float log2(float x, bool fused) {
   const uint32_t bits = std::bit_cast<uint32_t>(x);
   const float exponent = float(int32_t((bits & 0x7f800000u) >> 23) - 127);
   const float mantissa = std::bit_cast<float>((bits & 0x007fffffu) | 0x3f800000u);
@@ -70,7 +73,14 @@ inline float log2(float x, bool fused) {
 }
 
 // GLSL's log and exp as they reach log2 and exp2 (glsl_to_nir.cpp).
-inline float log(float x, bool fused) { return log2(x, fused) * float(1.0 / M_LOG2E); }
-inline float exp(float x, bool fused) { return exp2(x * float(M_LOG2E), fused); }
+OITREF_BUILTIN float log(float x, bool fused) { return log2(x, fused) * float(1.0 / M_LOG2E); }
+OITREF_BUILTIN float exp(float x, bool fused) { return exp2(x * float(M_LOG2E), fused); }
+
+#undef OITREF_BUILTIN
+
+// log and exp of x[0, n) into out (src/core/shader/shader_builtins.cpp): the same bits as the
+// functions above, in vector lanes where the CPU can.
+void logBatch(const float* x, float* out, int n, bool fused);
+void expBatch(const float* x, float* out, int n, bool fused);
 
 }  // namespace oitref::llvmpipe

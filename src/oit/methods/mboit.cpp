@@ -65,34 +65,6 @@ void normaliseFourMoments(const glm::vec4* texels, const int* used, const float*
   }
 }
 
-// llvmpipe::log and exp (math=llvmpipe) over a batch: with the CPU's fused multiply-add where
-// the profile fuses and the CPU has one (the same roundings as fmaf), else as written. A batch's
-// alphas are usually one value: its logarithm once.
-template <bool Exp>
-void driverMathLoop(const float* x, float* out, int n, bool fused) {
-  for (int i = 0; i < n; ++i) {
-    if (!Exp && i > 0 && std::bit_cast<uint32_t>(x[i]) == std::bit_cast<uint32_t>(x[i - 1])) {
-      out[i] = out[i - 1];
-      continue;
-    }
-    out[i] = Exp ? llvmpipe::exp(x[i], fused) : llvmpipe::log(x[i], fused);
-  }
-}
-#if defined(__x86_64__)
-template <bool Exp>
-[[gnu::target("avx2,fma")]] void driverMathFma(const float* x, float* out, int n) { driverMathLoop<Exp>(x, out, n, true); }
-#endif
-template <bool Exp>
-void driverMath(const float* x, float* out, int n, bool fused) {
-#if defined(__x86_64__)
-  static const bool fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  if (fused && fma) return driverMathFma<Exp>(x, out, n);
-#endif
-  driverMathLoop<Exp>(x, out, n, fused);
-}
-void driverLog(const float* x, float* out, int n, bool fused) { driverMath<false>(x, out, n, fused); }
-void driverExp(const float* x, float* out, int n, bool fused) { driverMath<true>(x, out, n, fused); }
-
 class Mboit final : public OpaqueFirstMethod {
  public:
   explicit Mboit(const MethodOptions& o)
@@ -158,7 +130,7 @@ class Mboit final : public OpaqueFirstMethod {
       if (driverMath) {  // −log(1.0 − min(c.a, ALPHA_MAX))
         float x[kShaderBatch];
         for (int i = 0; i < count; ++i) x[i] = 1.0f - std::min(colors[i].a, 1.0f - 0x1p-20f);
-        driverLog(x, a, count, fused);
+        llvmpipe::logBatch(x, a, count, fused);
         for (int i = 0; i < count; ++i) a[i] = -a[i];
         return;
       }
@@ -288,7 +260,7 @@ class Mboit final : public OpaqueFirstMethod {
       if (driverMath) {  // exp(−b0 · absorbance) in fp32
         float x[kShaderBatch];
         for (int j = 0; j < n; ++j) x[j] = -b0s[j] * absorbance[j];
-        driverExp(x, weight, n, fused);
+        llvmpipe::expBatch(x, weight, n, fused);
       } else if (n > 0) {
         detExpFloatBatch(exponent, weight, n);  // (n > 0: GCC then sees exponent written)
       }
