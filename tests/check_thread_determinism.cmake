@@ -1,10 +1,13 @@
-# Renders SCENE with METHOD (and the method options in SETS, "key=value;key=value") at 1, 2 and
-# 7 threads and checks the pixels' SHA-256 is the same.
+# Renders SCENE with METHOD (and the method options in SETS, "key=value;key=value", and PROFILE
+# where given) at 1, 2 and 7 threads and checks the pixels' SHA-256 is the same.
 set(hashes "")
 set(setArgs "")
 foreach(kv ${SETS})
   list(APPEND setArgs --set ${kv})
 endforeach()
+if(PROFILE)
+  list(APPEND setArgs --profile ${PROFILE})
+endif()
 foreach(threads 1 2 7)
   execute_process(COMMAND ${OITREF} render ${SCENE} --method ${METHOD} ${setArgs} --size 200x120 --threads ${threads} --json
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)

@@ -40,3 +40,20 @@ TEST_CASE("reference: every scene × method renders to the manifest's bits", "[r
     }
   }
 }
+
+// The llvmpipe profile's golden hashes (reference/manifest_llvmpipe.txt): frames that glcheck
+// scene finds bit-equal to Mesa's llvmpipe, kept from changing unnoticed.
+TEST_CASE("reference: the llvmpipe profile renders to its manifest's bits", "[reference]") {
+  const auto manifest = tools::readManifest(OITREF_SOURCE_DIR "/reference/manifest_llvmpipe.txt");
+  REQUIRE(manifest.size() >= 7 * 9);
+  for (auto [threads, perFragment] : {std::pair{1, false}, {3, false}, {2, true}}) {
+    Renderer renderer(RendererOptions{threads, 64, perFragment});
+    const auto entries = tools::renderReferences(OITREF_SOURCE_DIR "/scenes", renderer, "", false, "llvmpipe");
+    REQUIRE(entries.size() == manifest.size());
+    for (size_t i = 0; i < entries.size(); ++i) {
+      INFO(entries[i].scene << " " << entries[i].method << " with " << threads << " threads" << (perFragment ? ", per fragment" : ""));
+      CHECK(entries[i].method == manifest[i].method);
+      CHECK(entries[i].hash == manifest[i].hash);
+    }
+  }
+}

@@ -77,43 +77,49 @@ std::string formatSuiteTable(const SuiteScene& s) {
   return out.str();
 }
 
-std::vector<ReferenceEntry> renderReferenceScene(const std::string& path, Renderer& renderer, const std::string& dir, bool write) {
+std::vector<ReferenceEntry> renderReferenceScene(const std::string& path, Renderer& renderer, const std::string& dir, bool write,
+                                                 const std::string& profile) {
   Scene scene = loadScene(path);
   scene.width = kReferenceWidth, scene.height = kReferenceHeight;
-  const SceneFrames frames(std::move(scene), renderer);
+  const SceneFrames frames(std::move(scene), renderer, parseProfile(profile));
   std::vector<ReferenceEntry> entries;
   for (const MethodInfo& info : allMethods()) {
     const FrameResult frame = frames.render(*makeMethod(info.name));
     entries.push_back({sceneName(path), info.name, frameHash(frame)});
-    if (write) writeImage((fs::path(dir) / (sceneName(path) + "_" + info.name + ".png")).string(), frame.final8);
+    if (write && profile == "exact") writeImage((fs::path(dir) / (sceneName(path) + "_" + info.name + ".png")).string(), frame.final8);
   }
   return entries;
 }
 
-void writeReferenceManifest(const std::string& dir, const std::vector<ReferenceEntry>& entries) {
+std::string referenceManifest(const std::string& dir, const std::string& profile) {
+  return (fs::path(dir) / (profile == "exact" ? std::string("manifest.txt") : "manifest_" + profile + ".txt")).string();
+}
+
+void writeReferenceManifest(const std::string& dir, const std::vector<ReferenceEntry>& entries, const std::string& profile) {
   std::ostringstream manifest;
   manifest << "# scene method sha256(final RGBA8 bits, then RGBA32F bits), " << kReferenceWidth << "x" << kReferenceHeight
-           << ", profile exact. Regenerate with `oitref reference --write` only on purpose.\n";
+           << ", profile " << profile << ". Regenerate with `oitref reference --write"
+           << (profile == "exact" ? "" : " --profile " + profile) << "` only on purpose.\n";
   for (const ReferenceEntry& e : entries) manifest << e.scene << " " << e.method << " " << e.hash << "\n";
-  writeTextFile((fs::path(dir) / "manifest.txt").string(), manifest.str());
+  writeTextFile(referenceManifest(dir, profile), manifest.str());
 }
 
 std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Renderer& renderer, const std::string& dir,
-                                             bool write) {
+                                             bool write, const std::string& profile) {
   std::vector<ReferenceEntry> entries;
   for (const std::string& path : sceneFiles(scenesDir))
-    for (ReferenceEntry& e : renderReferenceScene(path, renderer, dir, write)) entries.push_back(std::move(e));
-  if (write) writeReferenceManifest(dir, entries);
+    for (ReferenceEntry& e : renderReferenceScene(path, renderer, dir, write, profile)) entries.push_back(std::move(e));
+  if (write) writeReferenceManifest(dir, entries, profile);
   return entries;
 }
 
-int reportReferences(const std::vector<ReferenceEntry>& entries, const std::string& dir, bool write) {
+int reportReferences(const std::vector<ReferenceEntry>& entries, const std::string& dir, bool write, const std::string& profile) {
   // Matched by (scene, method), so a new method or scene shows up as new images while the
   // existing ones are still compared hash for hash.
   int bad = 0, fresh = 0, same = 0;
   std::map<std::pair<std::string, std::string>, std::string> expected;
   if (!write)
-    for (const ReferenceEntry& m : readManifest(dir + "/manifest.txt")) expected[{m.scene, m.method}] = m.hash;
+    for (const ReferenceEntry& m : readManifest(referenceManifest(dir, profile))) expected[{m.scene, m.method}] = m.hash;
   for (const ReferenceEntry& e : entries) {
     if (write) continue;
     const auto it = expected.find({e.scene, e.method});
@@ -129,7 +135,8 @@ int reportReferences(const std::vector<ReferenceEntry>& entries, const std::stri
     std::printf("missing (in the manifest, not rendered): %s %s\n", key.first.c_str(), key.second.c_str()), ++bad;
   if (!write && (bad || fresh)) std::printf("%d differ or are missing, %d are new, %d identical\n", bad, fresh, same);
   bad += fresh;
-  std::printf("%s %zu reference images\n", write ? "wrote" : (bad ? "FAILED:" : "identical:"), entries.size());
+  std::printf("%s %zu reference %s\n", write ? "wrote" : (bad ? "FAILED:" : "identical:"), entries.size(),
+              profile == "exact" ? "images" : "hashes");
   return bad ? 1 : 0;
 }
 

@@ -44,15 +44,20 @@ struct ReferenceEntry {
 };
 // Renders the golden set; writes <dir>/<scene>_<method>.png and <dir>/manifest.txt when `write`.
 std::vector<ReferenceEntry> renderReferences(const std::string& scenesDir, Renderer& renderer, const std::string& dir,
-                                             bool write);
+                                             bool write, const std::string& profile = "exact");
 std::vector<ReferenceEntry> readManifest(const std::string& path);
 // One scene's part of the golden set (its images into `dir` when `write`).
 std::vector<ReferenceEntry> renderReferenceScene(const std::string& scenePath, Renderer& renderer, const std::string& dir,
-                                                 bool write);
-void writeReferenceManifest(const std::string& dir, const std::vector<ReferenceEntry>& entries);
+                                                 bool write, const std::string& profile = "exact");
+void writeReferenceManifest(const std::string& dir, const std::vector<ReferenceEntry>& entries,
+                            const std::string& profile = "exact");
+// The manifest of a profile's golden hashes: manifest.txt for exact (with the images), else
+// manifest_<profile>.txt (hashes only: the llvmpipe profile's frames, bit-equal to Mesa's).
+std::string referenceManifest(const std::string& dir, const std::string& profile);
 // What `oitref reference` prints about the rendered entries: with `write`, that they were
 // written; else each that differs from, is missing in or is new to dir/manifest.txt. Returns the
 // exit status (1: any difference).
-int reportReferences(const std::vector<ReferenceEntry>& entries, const std::string& dir, bool write);
+int reportReferences(const std::vector<ReferenceEntry>& entries, const std::string& dir, bool write,
+                     const std::string& profile = "exact");
 
 }  // namespace oitref::tools

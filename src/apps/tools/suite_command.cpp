@@ -67,9 +67,16 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
   ref->add_option("--scenes", o->scenesDir, "Scene folder")->capture_default_str();
   addThreadsOption(ref, o->threads);
   ref->add_flag("--write", o->write, "Regenerate the images and the manifest (only on purpose)");
+  std::shared_ptr<std::string> refProfile = std::make_shared<std::string>("exact");
+  ref->add_option("--profile", *refProfile,
+                  "Golden set of this profile: exact (images and manifest.txt) or llvmpipe (manifest_llvmpipe.txt, hashes only)")
+      ->check(CLI::IsMember({"exact", "llvmpipe"}))
+      ->capture_default_str();
   addPlanOption(ref, o->plan, "the check (or with --write, the regeneration)");
-  ref->callback([o, &exitCode] {
+  ref->callback([o, refProfile, &exitCode] {
     exitCode = runReportingErrors("reference", [&] {
+      const std::string& profile = *refProfile;
+      if (!o->plan.empty() && profile != "exact") throw std::invalid_argument("--plan checks the exact profile's golden set only");
       if (!o->plan.empty()) {
         const Plan plan = planReference(o->scenesDir, o->dir, o->write, o->plan);
         std::fputs(plannedMessage("reference", plan, o->write ? "the images and manifest into " + o->dir : "the check against " + o->dir).c_str(), stdout);
@@ -77,8 +84,8 @@ void addSuiteCommand(CLI::App& app, int& exitCode) {
       }
       Renderer renderer(RendererOptions{.threads = o->threads});
       if (o->write) std::filesystem::create_directories(o->dir);
-      if (!o->write) readManifest(o->dir + "/manifest.txt");  // an unreadable manifest fails before rendering
-      return reportReferences(renderReferences(o->scenesDir, renderer, o->dir, o->write), o->dir, o->write);
+      if (!o->write) readManifest(referenceManifest(o->dir, profile));  // an unreadable manifest fails before rendering
+      return reportReferences(renderReferences(o->scenesDir, renderer, o->dir, o->write, profile), o->dir, o->write, profile);
     });
   });
 }
