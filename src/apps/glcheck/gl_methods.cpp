@@ -158,8 +158,8 @@ void main() {
 }
 
 // mboit.cpp's depth warp into [−1, 1] and its 4-power-moment absorbance, as GLSL. ln and exp are the
-// driver's fp32 log/exp (mboit.cpp uses det_math.h's in double): the one place the GL version
-// cannot say exactly what the C++ says.
+// driver's fp32 log/exp, which mboit.cpp computes as llvmpipe does under math=llvmpipe
+// (oitref/core/shader_builtins.h) and with det_math.h's in double otherwise.
 std::string mboitFunctions(const MethodOptions& o, const Camera& camera) {
   if (!o.is("moments", "power4") || !o.is("storage", "float"))
     throw std::invalid_argument("glcheck runs mboit with moments=power4 storage=float only (got moments=" +
