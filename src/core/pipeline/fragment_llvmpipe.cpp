@@ -3,6 +3,7 @@
 // coordinates, as llvmpipe's generated fragment shader computes them (lp_bld_interp.c,
 // attribs_update_simple). The tests, the shader and blending are fragment_ops.cpp's.
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 
 #if defined(__x86_64__)
@@ -84,12 +85,21 @@ void FragmentStage::llvmpipeBatch(int y, int start, int n) {
     if (count < n)
       for (int j = 0; j < count; ++j) row[j] = row[alive[j]];
   }
-  for (int j = 0; j < count; ++j) {
-    const int i = alive[j];
-    batchX_[j] = start + i;
-    batchZ_[j] = windowZ[i];
-    batchDepth_[j] = z[i];
-    batchViewDepth_[j] = oow[i];  // the shaders' 1 / gl_FragCoord.w
+  // The survivors' columns and depths (view depth: the shaders' 1 / gl_FragCoord.w); where every
+  // pixel survived, the run's arrays as they are.
+  if (count == n) {
+    std::iota(batchX_, batchX_ + n, start);
+    std::memcpy(batchZ_, windowZ, sizeof(double) * size_t(n));
+    std::memcpy(batchDepth_, z, sizeof(float) * size_t(n));
+    std::memcpy(batchViewDepth_, oow, sizeof(float) * size_t(n));
+  } else {
+    for (int j = 0; j < count; ++j) {
+      const int i = alive[j];
+      batchX_[j] = start + i;
+      batchZ_[j] = windowZ[i];
+      batchDepth_[j] = z[i];
+      batchViewDepth_[j] = oow[i];
+    }
   }
   if (program_->batch) {
     batchUniform_ = 0;
