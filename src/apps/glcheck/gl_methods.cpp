@@ -282,10 +282,38 @@ void main() {
   return "opaque";
 }
 
+// screendoor.cpp: drawn as opaque (LESS with depth writes, no blending) where α exceeds the
+// pixel's Bayer threshold (B + ½)/N², else discarded; methods::bayerIndex as GLSL.
+std::string screendoor(GlFrame& f, const MethodOptions& o) {
+  const int n = int(o.number("mask"));
+  f.opaquePass();
+  PipelineState solid;
+  solid.depth = {true, CompareFunc::Less, true, false};
+  f.transparentPass("const int N = " + std::to_string(n) + ";\nconst float CELLS = " + glslFloat(float(n * n)) + R"(;
+uint bayerIndex(int x, int y) {
+  const uint quad[4] = uint[4](0u, 2u, 3u, 1u);
+  uint b = 0u;
+  for (int size = N; size > 1; size /= 2) {
+    int bx = (x % size) / (size / 2), by = (y % size) / (size / 2);
+    b += quad[by * 2 + bx] * uint((N / size) * (N / size));
+  }
+  return b;
+}
+void main() {
+  vec4 c = shadeSurface();
+  float threshold = (float(bayerIndex(int(gl_FragCoord.x), int(gl_FragCoord.y))) + 0.5) / CELLS;
+  if (!(c.a > threshold)) discard;
+  o0 = vec4(c.rgb, 1.0);
+  o1 = vec4(c.rgb, 1.0);
+})",
+                    {"opaque", "analysis"}, "depth", solid);
+  return "opaque";
+}
+
 const std::vector<std::pair<std::string, GlMethod>>& registry() {
   static const std::vector<std::pair<std::string, GlMethod>> r = {
-      {"opaque", opaque}, {"over", over}, {"wsum", wsum}, {"wavg", wavg},
-      {"wboit", wboit},   {"mboit", mboit}, {"peel", peel}};
+      {"opaque", opaque}, {"over", over}, {"wsum", wsum},   {"wavg", wavg},
+      {"wboit", wboit},   {"mboit", mboit}, {"peel", peel}, {"screendoor", screendoor}};
   return r;
 }
 
