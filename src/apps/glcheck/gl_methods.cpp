@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <map>
 
+#include "blend/method_blend_states.h"
 #include "methods/det_math.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
@@ -310,10 +311,63 @@ void main() {
   return "opaque";
 }
 
+// dualpeel.cpp as the sample writes it (every output of every fragment, MAX blending, which
+// dualpeel.cpp's outputs=changing matches bit for bit): the init pass, then peeling passes until
+// one peels no back layer — the sample's occlusion query, here a read of the back target — or
+// `passes`, each blending its back layer over the background; finally the front onto it.
+std::string dualpeel(GlFrame& f, const MethodOptions& o) {
+  const int passes = int(o.number("passes"));
+  f.opaquePass();
+  PipelineState maxState = transparentState(f.context().profile, detail::states::kMax);
+  maxState.blend[2] = detail::states::kMax;
+  const std::string depth[2] = {"depth_a", "depth_b"}, front[2] = {"front_a", "front_b"};
+  f.clear(depth[0], glm::vec4(-1.0f));
+  f.clear(front[0], glm::vec4(0.0f));
+  f.transparentPass("void main() { float z = windowDepth(); o0 = vec4(-z, z, 0.0, 0.0); }", {depth[0]}, "depth", maxState);
+  PipelineState over;
+  over.blend[0] = over.blend[1] = overBlend();
+  int current = 0;
+  for (int pass = 0; pass < passes; ++pass) {
+    f.clear(depth[1 - current], glm::vec4(-1.0f));
+    f.clear(front[1 - current], glm::vec4(0.0f));
+    f.clear("back", glm::vec4(0.0f));
+    f.transparentPass(R"(
+void main() {
+  vec4 c = shadeSurface();
+  float z = windowDepth();
+  vec4 range = fetch(depthPrev), frontSoFar = fetch(frontPrev);
+  float nearest = -range.x, farthest = range.y;
+  bool inside = z > nearest && z < farthest;
+  bool isNearest = z == nearest, isFarthest = z == farthest && !isNearest;
+  float multiplier = 1.0 - frontSoFar.a;
+  vec4 under = vec4(frontSoFar.rgb + c.rgb * c.a * multiplier, 1.0 - multiplier * (1.0 - c.a));
+  o0 = inside ? vec4(-z, z, 0.0, 0.0) : vec4(-1.0);
+  o1 = isNearest ? under : frontSoFar;
+  o2 = isFarthest ? c : vec4(0.0);
+})",
+                      {depth[1 - current], front[1 - current], "back"}, "depth", maxState,
+                      {{"depthPrev", depth[current]}, {"frontPrev", front[current]}});
+    f.fullscreenPass("void main() { vec4 b = fetch(back); if (b.a == 0.0) discard; o0 = b; o1 = b; }", {"opaque", "analysis"},
+                     over, {{"back", "back"}});
+    current = 1 - current;
+    const Image back = f.read("back");
+    bool peeled = false;
+    for (int y = 0; y < back.height() && !peeled; ++y)
+      for (int x = 0; x < back.width() && !peeled; ++x) peeled = back.fetch(x, y).a != 0.0f;
+    if (!peeled) break;
+  }
+  PipelineState merge;
+  merge.blend[0] = merge.blend[1] = detail::states::kFrontOntoBackground;
+  f.fullscreenPass("void main() { vec4 c = fetch(front); o0 = c; o1 = c; }", {"opaque", "analysis"}, merge,
+                   {{"front", front[current]}});
+  return "opaque";
+}
+
 const std::vector<std::pair<std::string, GlMethod>>& registry() {
   static const std::vector<std::pair<std::string, GlMethod>> r = {
       {"opaque", opaque}, {"over", over}, {"wsum", wsum},   {"wavg", wavg},
-      {"wboit", wboit},   {"mboit", mboit}, {"peel", peel}, {"screendoor", screendoor}};
+      {"wboit", wboit},   {"mboit", mboit}, {"peel", peel}, {"screendoor", screendoor},
+      {"dualpeel", dualpeel}};
   return r;
 }
 
