@@ -36,30 +36,10 @@ inline int laneMask(lanes::i4 pass) {
 
 template <DepthFormat Format, CompareFunc Func, bool Write, UnormRounding Rounding, bool Fetched = false>
 int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* passed) {
-  if constexpr (Fetched) {  // a shader's test against stored depths as llvmpipe fetches them
-    using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
-    const Word* row = static_cast<const Word*>(depth.texel(x, y));
-    constexpr double maxCode = Format == DepthFormat::D16 ? 65535.0 : 16777215.0;
-    int count = 0, i = 0;
-    for (; i + 4 <= n; i += 4) {
-      lanes::d4 z4;
-      std::memcpy(&z4, z + i, sizeof z4);
-      const lanes::u4 fragment = encodeDepthAs<Format, lanes::d4, Rounding>(z4);
-      const lanes::u4 stored = llvmpipeDepthCodeAsFetched(lanes::u4{row[i], row[i + 1], row[i + 2], row[i + 3]}, maxCode);
-      const int mask = laneMask(depthTestPassesAs<Func, Format>(fragment, stored));
-      lanes::i4 index;
-      std::memcpy(&index, kLeftPack.lanes[mask], sizeof index);
-      index += i;
-      std::memcpy(passed + count, &index, sizeof index);
-      count += kLeftPack.count[mask];
-    }
-    for (; i < n; ++i) {
-      const uint32_t fragment = encodeDepthAs<Format, double, Rounding>(z[i]);
-      passed[count] = i;
-      count += depthTestPassesAs<Func, Format>(fragment, llvmpipeDepthCodeAsFetched(uint32_t(row[i]), maxCode));
-    }
-    return count;
-  }
+  // Fetched: a shader's test against the stored depths as llvmpipe's texelFetch returns them
+  // (depthCodeAsFetched); such a test never writes.
+  static_assert(!(Fetched && Write));
+  constexpr double maxCode = Format == DepthFormat::D16 ? 65535.0 : 16777215.0;
   using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
   Word* row = static_cast<Word*>(depth.texel(x, y));
   int count = 0, i = 0;
@@ -70,7 +50,7 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
     lanes::u4 stored;
     if constexpr (Format == DepthFormat::D16) stored = lanes::u4{row[i], row[i + 1], row[i + 2], row[i + 3]};
     else std::memcpy(&stored, row + i, sizeof stored);
-    const lanes::i4 pass = depthTestPassesAs<Func, Format>(fragment, stored);
+    const lanes::i4 pass = depthTestPassesAs<Func, Format>(fragment, Fetched ? llvmpipeDepthCodeAsFetched(stored, maxCode) : stored);
     if constexpr (Write) {
       // The old value stored back where the test fails: the four pixels are distinct.
       const lanes::u4 result = pass ? fragment : stored;
@@ -88,7 +68,7 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
   }
   for (; i < n; ++i) {
     const uint32_t fragment = encodeDepthAs<Format, double, Rounding>(z[i]), stored = row[i];
-    const bool pass = depthTestPassesAs<Func, Format>(fragment, stored);
+    const bool pass = depthTestPassesAs<Func, Format>(fragment, Fetched ? llvmpipeDepthCodeAsFetched(stored, maxCode) : stored);
     if constexpr (Write) row[i] = Word(pass ? fragment : stored);
     passed[count] = i;
     count += pass;

@@ -147,15 +147,11 @@ void setupPrimitiveLlvmpipe(const Geometry& geometry, size_t t, const SetupConte
   const int n = geometry.attributeCount;
   DrawVertex in[3];
   uint32_t source[3];
+  glm::vec4 positions[3];
   unsigned masks[3];
+  if (!triangleVertices(geometry, t, source, positions, counters)) return;
   for (int k = 0; k < 3; ++k) {
-    source[k] = geometry.vertexIndex(t, k);
-    const glm::vec4& p = geometry.clipPositions[source[k]];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.w)) {
-      ++counters.nonFinite;
-      return;
-    }
-    for (int i = 0; i < 4; ++i) in[k].clip[i] = p[i];
+    for (int i = 0; i < 4; ++i) in[k].clip[i] = positions[k][i];
     in[k].attributes = geometry.vertexAttributes(source[k]);
     masks[k] = clipMask(in[k].clip, context.clipNearFar);
     windowFromShader(in[k], vp, context.fusedMultiplyAdd);

@@ -84,19 +84,26 @@ void emitSnappedTriangle(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t
   ++counters.rasterized;
 }
 
-void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& context,
-                    std::vector<SetupTriangle>& out, SetupCounters& counters) {
-  ClipVertex in[3];
-  uint32_t source[3];
+bool triangleVertices(const Geometry& geometry, size_t t, uint32_t source[3], glm::vec4 positions[3], SetupCounters& counters) {
   for (int k = 0; k < 3; ++k) {
     source[k] = geometry.vertexIndex(t, k);
     const glm::vec4& p = geometry.clipPositions[source[k]];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.w)) {
       ++counters.nonFinite;
-      return;
+      return false;
     }
-    in[k].position = glm::dvec4(p);
+    positions[k] = p;
   }
+  return true;
+}
+
+void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& context,
+                    std::vector<SetupTriangle>& out, SetupCounters& counters) {
+  ClipVertex in[3];
+  uint32_t source[3];
+  glm::vec4 positions[3];
+  if (!triangleVertices(geometry, t, source, positions, counters)) return;
+  for (int k = 0; k < 3; ++k) in[k].position = glm::dvec4(positions[k]);
   ClipVertex polygon[kMaxClipVertices];
   const int n = clipTriangle(in, context.clipNearFar, polygon);
   if (n < 3) return;

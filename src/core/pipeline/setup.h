@@ -79,6 +79,10 @@ struct SetupCounters {
   double clipErrorPixels = 0;
 };
 
+// Triangle t's vertex indices and clip positions; false (and counted) where a coordinate is not
+// finite: the triangle is dropped (GL leaves the result undefined).
+bool triangleVertices(const Geometry& geometry, size_t t, uint32_t source[3], glm::vec4 positions[3], SetupCounters& counters);
+
 // Assembles, clips and sets up triangle `t` of `geometry`, appending 0 or more SetupTriangles.
 void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& context,
                     std::vector<SetupTriangle>& out, SetupCounters& counters);
