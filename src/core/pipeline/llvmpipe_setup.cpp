@@ -1,6 +1,7 @@
 #include "pipeline/llvmpipe_setup.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace oitref::detail {
@@ -107,10 +108,12 @@ void planeOf(const PlaneSetup& s, float a0, float a1, float a2, float* out) {
 }
 
 // lp_setup_tri.c, calc_fixed_position's snap: (x − 0.5)·256 in fp32, to nearest even
-// (cvtps2dq). In oitref's fixed point the pixel centre is 256·i + 128, so 128 is added back.
+// (cvtps2dq, which gives INT32_MIN for NaN and values beyond int32). In oitref's fixed point the
+// pixel centre is 256·i + 128, so 128 is added back.
 int64_t snap(float window) {
   const float scaled = (window - 0.5f) * 256.0f;
-  return int64_t(std::nearbyint(scaled)) + 128;
+  const int64_t fixed = scaled >= -0x1p31f && scaled < 0x1p31f ? int64_t(std::nearbyint(scaled)) : int64_t(INT32_MIN);
+  return fixed + 128;
 }
 
 // One triangle as llvmpipe's setup receives it (triangle_both): oriented, culled, its planes.
@@ -120,6 +123,10 @@ void emit(const DrawVertex* a, const DrawVertex* b, const DrawVertex* c, uint32_
   const int64_t ax = snap(a->window[0]), ay = snap(a->window[1]);
   const int64_t bx = snap(b->window[0]), by = snap(b->window[1]);
   const int64_t cx = snap(c->window[0]), cy = snap(c->window[1]);
+  // A vertex cvtps2dq could not convert (NaN, or beyond int32 after the clipper's rounding):
+  // llvmpipe's edge functions would be meaningless there, oitref's would overflow; dropped.
+  constexpr int64_t kOut = int64_t(INT32_MIN) + 128;
+  if (ax == kOut || ay == kOut || bx == kOut || by == kOut || cx == kOut || cy == kOut) return;
   // llvmpipe's area: (x0 − x1)(y2 − y0) − (x2 − x0)(y0 − y1), positive for GL's clockwise.
   const int64_t area = (ax - bx) * (cy - ay) - (cx - ax) * (ay - by);
   if (area == 0) return;
