@@ -43,10 +43,11 @@ TEST_CASE("reference: every scene × method renders to the manifest's bits", "[r
 
 // The llvmpipe profile's golden hashes (reference/manifest_llvmpipe.txt): frames that glcheck
 // scene finds bit-equal to Mesa's llvmpipe, kept from changing unnoticed.
+// Two of the exact set's three configurations (one thread is the determinism tests' own case).
 TEST_CASE("reference: the llvmpipe profile renders to its manifest's bits", "[reference]") {
   const auto manifest = tools::readManifest(OITREF_SOURCE_DIR "/reference/manifest_llvmpipe.txt");
   REQUIRE(manifest.size() >= 7 * 9);
-  for (auto [threads, perFragment] : {std::pair{1, false}, {3, false}, {2, true}}) {
+  for (auto [threads, perFragment] : {std::pair{3, false}, {2, true}}) {
     Renderer renderer(RendererOptions{threads, 64, perFragment});
     const auto entries = tools::renderReferences(OITREF_SOURCE_DIR "/scenes", renderer, "", false, "llvmpipe");
     REQUIRE(entries.size() == manifest.size());
