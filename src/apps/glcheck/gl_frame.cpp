@@ -127,6 +127,7 @@ GlFrame::GlFrame(const GlContext& context, const FrameContext& frame, const std:
     p.particles = object.type == ObjectType::Particles;
     if (object.texture) p.texture = uploadTexture(object);
     if (object.alphaTest) p.alphaTest = *object.alphaTest;
+    p.objectIndex = int(sp.objectIndex);
     p.indexCount = GLsizei(g.indices.size());
     gl_.GenVertexArrays(1, &p.vao);
     gl_.BindVertexArray(p.vao);
@@ -249,27 +250,38 @@ Image GlFrame::read(const std::string& colour) {
 GLuint GlFrame::program(const std::string& vertex, const std::string& main, size_t colourCount,
                         const std::vector<GlInput>& inputs) {
   std::string source = "#version 430 core\n";
+  // A pass's own #extension lines (at the start of `main`) go before any declaration.
+  std::string body = main;
+  while (body.rfind("#extension", 0) == 0) {
+    const size_t end = body.find('\n');
+    source += body.substr(0, end + 1);
+    body = end == std::string::npos ? std::string() : body.substr(end + 1);
+  }
   for (size_t i = 0; i < colourCount; ++i)
     source += "layout(location = " + std::to_string(i) + ") out vec4 o" + std::to_string(i) + ";\n";
   for (const GlInput& in : inputs) source += "uniform sampler2D " + in.sampler + ";\n";
   source += kFragmentPrelude;
-  source += main;
+  source += body;
   GLuint& p = programs_[vertex + source];
   if (p == 0) p = linkProgram(gl_, vertex, source);
   gl_.UseProgram(p);
   return p;
 }
 
+// The unit of an object's texture: above those of a pass's inputs.
+constexpr GLenum kSurfaceTextureUnit = 15;
+
 void GlFrame::bindInputs(GLuint program, const std::vector<GlInput>& inputs) {
+  if (inputs.size() >= kSurfaceTextureUnit)
+    throw std::invalid_argument("a pass reads " + std::to_string(inputs.size()) +
+                                " attachments; the GL frame binds at most " + std::to_string(kSurfaceTextureUnit - 1) +
+                                " beside the object's texture (stochastic: samples=8)");
   for (size_t i = 0; i < inputs.size(); ++i) {
     gl_.ActiveTexture(GLenum(GL_TEXTURE0 + i));
     gl_.BindTexture(GL_TEXTURE_2D, texture(inputs[i].attachment).id);
     gl_.Uniform1i(gl_.GetUniformLocation(program, inputs[i].sampler.c_str()), GLint(i));
   }
 }
-
-// The unit of an object's texture: above those of a pass's inputs.
-constexpr GLenum kSurfaceTextureUnit = 15;
 
 GLuint GlFrame::uploadTexture(const SceneObject& object) {
   const Texture2D& t = *object.texture;
@@ -308,12 +320,14 @@ GLuint GlFrame::uploadTexture(const SceneObject& object) {
 void GlFrame::drawParts(GLuint program, bool transparent, bool everything) {
   const GLint particles = gl_.GetUniformLocation(program, "particles");
   const GLint textured = gl_.GetUniformLocation(program, "textured"), alphaTest = gl_.GetUniformLocation(program, "alphaTest");
+  const GLint objectIndex = gl_.GetUniformLocation(program, "objectIndex");
   gl_.Uniform1i(gl_.GetUniformLocation(program, "surfaceTexture"), GLint(kSurfaceTextureUnit));
   for (const Part& p : parts_) {
     if (p.transparent != transparent && !everything) continue;
     gl_.Uniform1i(particles, p.particles ? 1 : 0);
     gl_.Uniform1i(textured, p.texture ? 1 : 0);
     gl_.Uniform1f(alphaTest, p.alphaTest);
+    if (objectIndex >= 0) gl_.Uniform1i(objectIndex, p.objectIndex);
     if (p.texture) {
       gl_.ActiveTexture(GL_TEXTURE0 + kSurfaceTextureUnit);
       gl_.BindTexture(GL_TEXTURE_2D, p.texture);

@@ -96,6 +96,7 @@ class GlFrame {
     bool transparent = false, particles = false;
     GLuint texture = 0;        // the object's texture with its levels and sampler state; 0: none
     float alphaTest = -1.0f;   // the object's alpha_test; < 0: none
+    int objectIndex = 0;       // the object's index in the scene (FragmentInput::drawId): uniform `objectIndex`
   };
   // The object's texture as a GL texture object (every level as oitref holds it, so both sample
   // the same texels) with the sampler's filters and wraps.

@@ -363,11 +363,74 @@ void main() {
   return "opaque";
 }
 
+// stochastic.cpp (variant enderton): S stochastic depth passes, each keeping the fragments whose
+// mask (methods::stochasticMask: SplitMix64 of the fragment's key, a partial Fisher–Yates
+// shuffle, in 64-bit integers) has its sample; then the accumulation with v the share of samples
+// whose stored depth is not in front (codes compared as peel compares them), and the composite.
+std::string stochastic(GlFrame& f, const MethodOptions& o) {
+  if (!o.is("variant", "enderton"))
+    throw std::invalid_argument("glcheck runs stochastic with variant=enderton only (got variant=" + o.text("variant") + ")");
+  const int samples = int(o.number("samples"));
+  const uint32_t seed = uint32_t(o.number("seed"));
+  f.opaquePass();
+  PipelineState solid;
+  solid.depth = {true, CompareFunc::Less, true, false};
+  const std::string header = "#extension GL_ARB_gpu_shader_int64 : require\nconst int SAMPLES = " + std::to_string(samples) +
+                             ";\nconst uint SEED = " + std::to_string(seed) + "u;\n";
+  const std::string mask = R"(uniform int objectIndex;
+uint64_t splitMix64(inout uint64_t state) {
+  state += 0x9e3779b97f4a7c15ul;
+  uint64_t z = state;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ul;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebul;
+  return z ^ (z >> 31);
+}
+uint stochasticMask(float alpha) {
+  int bits = clamp(int(floor(double(alpha) * double(SAMPLES) + 0.5lf)), 0, SAMPLES);
+  uint64_t state = (uint64_t(SEED) << 32) ^ (uint64_t(uint(gl_FragCoord.x)) << 16) ^ uint64_t(uint(gl_FragCoord.y)) ^
+                   (uint64_t(uint(objectIndex)) << 40) ^ (uint64_t(uint(gl_PrimitiveID)) * 0x2545f4914f6cdd1dul);
+  splitMix64(state);
+  int order[32];
+  for (int i = 0; i < SAMPLES; ++i) order[i] = i;
+  uint m = 0u;
+  for (int i = 0; i < bits; ++i) {
+    int j = i + int(splitMix64(state) % uint64_t(SAMPLES - i));
+    int t = order[i]; order[i] = order[j]; order[j] = t;
+    m |= 1u << uint(order[i]);
+  }
+  return m;
+}
+)";
+  for (int s = 0; s < samples; ++s) {
+    const std::string depth = "sample_depth_" + std::to_string(s);
+    f.copy("depth", depth);
+    f.transparentPass(header + mask + "void main() {\n  vec4 c = shadeSurface();\n  if (((stochasticMask(c.a) >> " +
+                          std::to_string(s) + "u) & 1u) == 0u) discard;\n}",
+                      {}, depth, solid);
+  }
+  f.clear("accum", glm::vec4(0.0f));
+  f.clear("reveal", glm::vec4(1.0f));
+  PipelineState st = transparentState(f.context().profile, additiveBlend());
+  st.blend[1] = revealageBlend();
+  std::string visible = "  const double M = 16777215.0lf;\n  double z = roundEven(double(windowDepth()) * M);\n  int visible = 0;\n";
+  std::vector<GlInput> inputs;
+  for (int s = 0; s < samples; ++s) {
+    inputs.push_back({"sample" + std::to_string(s), "sample_depth_" + std::to_string(s)});
+    visible += "  visible += z <= roundEven(double(fetch(sample" + std::to_string(s) + ").r) * M) ? 1 : 0;\n";
+  }
+  f.transparentPass("void main() {\n  vec4 c = shadeSurface();\n" + visible +
+                        "  float v = float(visible) / float(" + std::to_string(samples) + ");\n"
+                        "  o0 = vec4(c.rgb * c.a, c.a) * v;\n  o1 = vec4(c.a);\n}",
+                    {"accum", "reveal"}, "depth", st, inputs);
+  f.blendOverBackground(weightedResolveMain(), {{"accum", "accum"}, {"reveal", "reveal"}});
+  return "opaque";
+}
+
 const std::vector<std::pair<std::string, GlMethod>>& registry() {
   static const std::vector<std::pair<std::string, GlMethod>> r = {
       {"opaque", opaque}, {"over", over}, {"wsum", wsum},   {"wavg", wavg},
       {"wboit", wboit},   {"mboit", mboit}, {"peel", peel}, {"screendoor", screendoor},
-      {"dualpeel", dualpeel}};
+      {"dualpeel", dualpeel}, {"stochastic", stochastic}};
   return r;
 }
 

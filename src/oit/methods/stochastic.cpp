@@ -90,10 +90,13 @@ class Stochastic final : public OpaqueFirstMethod {
     PipelineState st = transparentState(context.profile, additiveBlend());
     st.blend[1] = revealageBlend();
     const DepthFormat format = t.depth().format();
+    const TextureFiltering read = context.profile.texture;
     run.transparentPass("accumulate", fb, st, [&](const FragmentInput& in, const glm::vec4& c, FragmentOutput& out) {
       const uint32_t z = encodeDepth(in.depth, format);
       int visible = 0;
-      for (const DepthBuffer* d : sampleDepth) visible += z <= d->load(in.x, in.y);
+      // The stored depths as the shader fetches them (depthCodeAsFetched: the stored codes, except
+      // under llvmpipe's texture unit).
+      for (const DepthBuffer* d : sampleDepth) visible += z <= depthCodeAsFetched(d->load(in.x, in.y), format, read);
       const float v = float(visible) / float(samples);
       out.write(0, premultiplied(c, v));
       out.write(1, glm::vec4(c.a));
