@@ -151,6 +151,8 @@ inline uint32_t encodeDepth(double windowZ, DepthFormat format, UnormRounding ro
 inline uint32_t encodeDepth(double windowZ, DepthFormat format) {
   return encodeDepth(windowZ, format, UnormRounding::ExactNearestEven);
 }
+// The largest code of a UNORM depth format, 2^n − 1 (d16, d24).
+constexpr double depthMaxCode(DepthFormat format) { return format == DepthFormat::D16 ? 65535.0 : 16777215.0; }
 // llvmpipe's texelFetch of a d16/d24 code, and the code a shader rounds it back to
 // (fetchDepthTexel, depthCodeAsFetched), on one code (U = uint32_t) or four (U = lanes::u4).
 template <typename U>
@@ -173,13 +175,12 @@ inline U llvmpipeDepthCodeAsFetched(U stored, double maxCode) {
 }
 inline float fetchDepthTexel(uint32_t stored, DepthFormat format, TextureFiltering rule) {
   if (format == DepthFormat::D32F) return std::bit_cast<float>(stored);
-  const double maxCode = format == DepthFormat::D16 ? 65535.0 : 16777215.0;
-  if (rule == TextureFiltering::Llvmpipe) return llvmpipeDepthTexel(stored, maxCode);
-  return float(double(stored) / maxCode);
+  if (rule == TextureFiltering::Llvmpipe) return llvmpipeDepthTexel(stored, depthMaxCode(format));
+  return float(decodeDepth(stored, format));
 }
 inline uint32_t depthCodeAsFetched(uint32_t stored, DepthFormat format, TextureFiltering rule) {
   if (format == DepthFormat::D32F || rule != TextureFiltering::Llvmpipe) return stored;
-  return llvmpipeDepthCodeAsFetched(stored, format == DepthFormat::D16 ? 65535.0 : 16777215.0);
+  return llvmpipeDepthCodeAsFetched(stored, depthMaxCode(format));
 }
 
 // The rule once, for a format and function known when compiled, on one stored value (U =

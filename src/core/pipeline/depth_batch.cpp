@@ -39,7 +39,7 @@ int testBatch(DepthBuffer& depth, int x, int y, const double* z, int n, int* pas
   // Fetched: a shader's test against the stored depths as llvmpipe's texelFetch returns them
   // (depthCodeAsFetched); such a test never writes.
   static_assert(!(Fetched && Write));
-  constexpr double maxCode = Format == DepthFormat::D16 ? 65535.0 : 16777215.0;
+  constexpr double maxCode = depthMaxCode(Format);
   using Word = std::conditional_t<Format == DepthFormat::D16, uint16_t, uint32_t>;
   Word* row = static_cast<Word*>(depth.texel(x, y));
   int count = 0, i = 0;

@@ -129,7 +129,8 @@ class Mboit final : public OpaqueFirstMethod {
     auto absorbancesOf = [&](const glm::vec4* colors, int count, float* a) {
       if (driverMath) {  // −log(1.0 − min(c.a, ALPHA_MAX))
         float x[kShaderBatch];
-        for (int i = 0; i < count; ++i) x[i] = 1.0f - std::min(colors[i].a, 1.0f - 0x1p-20f);
+        x[0] = 1.0f - std::min(colors[0].a, 1.0f - 0x1p-20f);  // a batch is never empty (said so, GCC sees x written)
+        for (int i = 1; i < count; ++i) x[i] = 1.0f - std::min(colors[i].a, 1.0f - 0x1p-20f);
         llvmpipe::logBatch(x, a, count, fused);
         for (int i = 0; i < count; ++i) a[i] = -a[i];
         return;
@@ -249,19 +250,19 @@ class Mboit final : public OpaqueFirstMethod {
     // divisions only where they can change the float).
     auto weightsFrom = [&fallbacks, saturate, driverMath, fused](int count, int n, const int* used, const float* b0s,
                                                                  const float* absorbance, const bool* fellBack, float* w) {
-      double exponent[kShaderBatch];
       float weight[kShaderBatch];
       // Each loop on its own, so that each runs in vector lanes (together, GCC ran them a
       // fragment at a time).
-      for (int j = 0; j < n; ++j) exponent[j] = -double(b0s[j]) * double(absorbance[j]);
       unsigned fell = 0;  // one add per batch, not per fragment that fell back
       for (int j = 0; j < n; ++j) fell += fellBack[j];
       if (fell) fallbacks.add(fell);
-      if (driverMath) {  // exp(−b0 · absorbance) in fp32
+      if (driverMath && n > 0) {  // exp(−b0 · absorbance) in fp32 (n > 0: GCC then sees x written)
         float x[kShaderBatch];
         for (int j = 0; j < n; ++j) x[j] = -b0s[j] * absorbance[j];
         llvmpipe::expBatch(x, weight, n, fused);
-      } else if (n > 0) {
+      } else if (!driverMath && n > 0) {
+        double exponent[kShaderBatch];
+        for (int j = 0; j < n; ++j) exponent[j] = -double(b0s[j]) * double(absorbance[j]);
         detExpFloatBatch(exponent, weight, n);  // (n > 0: GCC then sees exponent written)
       }
       if (saturate)
