@@ -1,6 +1,8 @@
 // `oitref glcheck`: checks oitref against a real OpenGL driver (headless, through EGL).
 //   glcheck blend  the blend cases of `oitref blend --cases`, or generated ones, bit for bit
 //   glcheck scene  scenes rendered by the GL version of each method, against `oitref render`
+//   glcheck raster random triangles one at a time: coverage, depth and interpolation per raster rule
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -10,6 +12,7 @@
 #include "glcheck/blend_check.h"
 #include "glcheck/gl_context.h"
 #include "glcheck/gl_methods.h"
+#include "glcheck/raster_check.h"
 #include "glcheck/scene_check.h"
 #include "gpucapture/gl_trace.h"
 #include "tools/blend_case_generator.h"
@@ -99,6 +102,41 @@ int runBlendCheck(const BlendCheckOptions& o) {
   return bad ? 2 : (s.destinationMismatches || s.resultMismatches) ? 1 : 0;  // an error before a difference
 }
 
+// A GPU on another machine: every GL call recorded here (--record-trace), replayed there with
+// oitref-gpu-capture frames, then the same calls run again here with the texels it read in place
+// of this driver's (--gpu-reads; gpucapture/gl_trace.h). Neither: the context is left as it is.
+class TraceLink {
+ public:
+  TraceLink(GlContext& context, const std::string& recordTrace, const std::string& gpuReads)
+      : recordTrace_(recordTrace), gpuReads_(gpuReads) {
+    if (!recordTrace.empty() && !gpuReads.empty())
+      throw std::invalid_argument("--record-trace and --gpu-reads: one at a time (record here, replay there, compare here)");
+    if (!recordTrace.empty()) {
+      trace_.open(recordTrace, std::ios::binary);
+      if (!trace_) throw std::runtime_error("cannot write '" + recordTrace + "'");
+      context.setFunctions(recordingFunctions(context.driver(), trace_));
+      std::cout << "recording every GL call into " << recordTrace << " (replay: oitref-gpu-capture frames)\n";
+    }
+    if (!gpuReads.empty()) {
+      reads_.open(gpuReads, std::ios::binary);
+      if (!reads_) throw std::runtime_error("cannot read '" + gpuReads + "'");
+      context.setFunctions(substitutingFunctions(context.driver(), reads_));
+      std::cout << "GL texels: those recorded in " << gpuReads << " (replayed on another machine's GPU), not this driver's\n";
+    }
+  }
+  // After the last GL call: every recorded read used, the trace written.
+  void finish() {
+    if (reads_.is_open() && reads_.peek() != std::char_traits<char>::eof())
+      throw std::runtime_error("'" + gpuReads_ + "' holds more reads than these frames make (recorded with other options?)");
+    if (trace_.is_open() && !trace_.flush()) throw std::runtime_error("writing '" + recordTrace_ + "' failed");
+  }
+
+ private:
+  std::string recordTrace_, gpuReads_;
+  std::ofstream trace_;
+  std::ifstream reads_;
+};
+
 struct SceneCheckCommand {
   SceneCheckOptions options;
   std::string size = "160x90", methods, memoryLimit, recordTrace, gpuReads;
@@ -120,8 +158,6 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
-  if (!c.recordTrace.empty() && !c.gpuReads.empty())
-    throw std::invalid_argument("--record-trace and --gpu-reads: one at a time (record here, replay there, compare here)");
   if (o.timeRuns > 0 && (!c.recordTrace.empty() || !c.gpuReads.empty()))
     throw std::invalid_argument("--time measures this driver: not with --record-trace or --gpu-reads");
   // Side by side means the same thread count: llvmpipe reads LP_NUM_THREADS when the context starts.
@@ -137,31 +173,40 @@ int runSceneCheckCommand(SceneCheckCommand& c) {
   }
   GlContext context;
   printDriver(context);
-  // Whole frames on another machine's GPU: record every GL call here, replay it there with
-  // oitref-gpu-capture, then compare with the texels it read (gpucapture/gl_trace.h).
-  std::ofstream trace;
-  std::ifstream reads;
-  if (!c.recordTrace.empty()) {
-    trace.open(c.recordTrace, std::ios::binary);
-    if (!trace) throw std::runtime_error("cannot write '" + c.recordTrace + "'");
-    context.setFunctions(recordingFunctions(context.driver(), trace));
-    std::cout << "recording every GL call into " << c.recordTrace << " (replay: oitref-gpu-capture frames)\n";
-  }
-  if (!c.gpuReads.empty()) {
-    reads.open(c.gpuReads, std::ios::binary);
-    if (!reads) throw std::runtime_error("cannot read '" + c.gpuReads + "'");
-    context.setFunctions(substitutingFunctions(context.driver(), reads));
-    std::cout << "GL texels: those recorded in " << c.gpuReads << " (replayed on another machine's GPU), not this driver's\n";
-  }
+  TraceLink link(context, c.recordTrace, c.gpuReads);
   std::cout << "\n";
   const std::vector<SceneCheckRow> rows = runSceneCheck(context, o, std::cout);
-  if (reads && reads.peek() != std::char_traits<char>::eof())
-    throw std::runtime_error("'" + c.gpuReads + "' holds more reads than these frames make (recorded with other options?)");
-  if (trace && !trace.flush()) throw std::runtime_error("writing '" + c.recordTrace + "' failed");
+  link.finish();
   size_t failed = 0;
   for (const SceneCheckRow& r : rows) failed += !r.pass;
   std::cout << rows.size() - failed << " of " << rows.size() << " scene × method pairs within tolerance\n";
   return failed ? 1 : 0;
+}
+
+struct RasterCheckCommand {
+  RasterCheckOptions options;
+  std::string profiles = "exact;llvmpipe", recordTrace, gpuReads;
+};
+
+int runRasterCheckCommand(RasterCheckCommand& c) {
+  RasterCheckOptions& o = c.options;
+  o.profiles.clear();
+  for (size_t start = 0; start <= c.profiles.size();) {  // profiles are separated by ';' (a profile holds commas)
+    const size_t end = std::min(c.profiles.find(';', start), c.profiles.size());
+    if (end > start) o.profiles.push_back(c.profiles.substr(start, end - start));
+    start = end + 1;
+  }
+  if (o.profiles.empty()) throw std::invalid_argument("--profiles names no profile");
+  if (o.require == "none") o.require.clear();
+  GlContext context;
+  printDriver(context);
+  TraceLink link(context, c.recordTrace, c.gpuReads);
+  std::cout << "\n";
+  const RasterCheckResult r = runRasterCheck(context, o, std::cout);
+  link.finish();
+  if (!o.require.empty())
+    std::cout << "\n" << (r.pass ? "every pixel equal" : "pixels differ") << " under " << o.require << "\n";
+  return r.pass ? 0 : 1;
 }
 
 }  // namespace
@@ -218,6 +263,25 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
                     "Compare with the texels oitref-gpu-capture frames read on a GPU (same scenes and options as the recording)");
   scene->callback([s, &exitCode] {
     exitCode = runReportingErrors("glcheck scene", [&] { return glcheck::runSceneCheckCommand(*s); });
+  });
+
+  auto r = std::make_shared<glcheck::RasterCheckCommand>();
+  CLI::App* raster = cmd->add_subcommand(
+      "raster", "Random triangles, each alone, on the GL driver and in oitref: coverage, D32F depth and interpolation "
+                "per raster rule; exit 1 when the required rule differs anywhere");
+  raster->add_option("--triangles", r->options.triangles, "How many triangles")->capture_default_str()->check(CLI::Range(1, 100000));
+  raster->add_option("--seed", r->options.seed, "Seed of the triangles")->capture_default_str();
+  raster->add_option("--size", r->options.size, "Framebuffer side in pixels, a power of two")->capture_default_str();
+  raster->add_option("--profiles", r->profiles, "oitref profiles to compare, separated by ';' (raster=exact ones with both fill rules)")
+      ->capture_default_str();
+  raster->add_option("--require", r->options.require, "The profile that must match in every pixel ('none': report only)")
+      ->capture_default_str();
+  raster->add_option("--record-trace", r->recordTrace,
+                     "Also record every GL call into this file, for oitref-gpu-capture frames on a GPU machine");
+  raster->add_option("--gpu-reads", r->gpuReads,
+                     "Compare with the texels oitref-gpu-capture frames read on a GPU (same options as the recording)");
+  raster->callback([r, &exitCode] {
+    exitCode = runReportingErrors("glcheck raster", [&] { return glcheck::runRasterCheckCommand(*r); });
   });
 
 }

@@ -98,7 +98,7 @@ void APIENTRY SubstitutedReadPixels(GLint x, GLint y, GLsizei w, GLsizei h, GLen
 
 size_t readPixelBytes(GLenum format, GLenum type) {
   if (type == GL_UNSIGNED_INT_2_10_10_10_REV || type == GL_UNSIGNED_INT_10F_11F_11F_REV) return 4;
-  const size_t channels = format == GL_RED ? 1 : format == GL_RG ? 2 : format == GL_RGB ? 3 : format == GL_RGBA ? 4 : 0;
+  const size_t channels = format == GL_RED || format == GL_DEPTH_COMPONENT ? 1 : format == GL_RG ? 2 : format == GL_RGB ? 3 : format == GL_RGBA ? 4 : 0;
   const size_t bytes = type == GL_UNSIGNED_BYTE ? 1 : type == GL_UNSIGNED_SHORT || type == GL_HALF_FLOAT ? 2 : type == GL_FLOAT ? 4 : 0;
   if (!channels || !bytes) throw std::invalid_argument("glReadPixels format/type pair the GL trace does not know");
   return channels * bytes;
