@@ -317,26 +317,77 @@ GLuint GlFrame::uploadTexture(const SceneObject& object) {
   return id;
 }
 
-void GlFrame::drawParts(GLuint program, bool transparent, bool everything) {
-  const GLint particles = gl_.GetUniformLocation(program, "particles");
-  const GLint textured = gl_.GetUniformLocation(program, "textured"), alphaTest = gl_.GetUniformLocation(program, "alphaTest");
-  const GLint objectIndex = gl_.GetUniformLocation(program, "objectIndex");
+GlFrame::PartUniforms GlFrame::partUniforms(GLuint program) {
   gl_.Uniform1i(gl_.GetUniformLocation(program, "surfaceTexture"), GLint(kSurfaceTextureUnit));
+  return {gl_.GetUniformLocation(program, "particles"), gl_.GetUniformLocation(program, "textured"),
+          gl_.GetUniformLocation(program, "alphaTest"), gl_.GetUniformLocation(program, "objectIndex")};
+}
+
+void GlFrame::usePart(const PartUniforms& u, const Part& p) {
+  gl_.Uniform1i(u.particles, p.particles ? 1 : 0);
+  gl_.Uniform1i(u.textured, p.texture ? 1 : 0);
+  gl_.Uniform1f(u.alphaTest, p.alphaTest);
+  if (u.objectIndex >= 0) gl_.Uniform1i(u.objectIndex, p.objectIndex);
+  if (p.texture) {
+    gl_.ActiveTexture(GL_TEXTURE0 + kSurfaceTextureUnit);
+    gl_.BindTexture(GL_TEXTURE_2D, p.texture);
+    gl_.ActiveTexture(GL_TEXTURE0);
+  }
+  gl_.BindVertexArray(p.vao);
+}
+
+void GlFrame::drawParts(GLuint program, bool transparent, bool everything) {
+  const PartUniforms uniforms = partUniforms(program);
   for (const Part& p : parts_) {
     if (p.transparent != transparent && !everything) continue;
-    gl_.Uniform1i(particles, p.particles ? 1 : 0);
-    gl_.Uniform1i(textured, p.texture ? 1 : 0);
-    gl_.Uniform1f(alphaTest, p.alphaTest);
-    if (objectIndex >= 0) gl_.Uniform1i(objectIndex, p.objectIndex);
-    if (p.texture) {
-      gl_.ActiveTexture(GL_TEXTURE0 + kSurfaceTextureUnit);
-      gl_.BindTexture(GL_TEXTURE_2D, p.texture);
-      gl_.ActiveTexture(GL_TEXTURE0);
-    }
-    gl_.BindVertexArray(p.vao);
+    usePart(uniforms, p);
     gl_.DrawElements(GL_TRIANGLES, p.indexCount, GL_UNSIGNED_INT, nullptr);
   }
   gl_.BindVertexArray(0);
+}
+
+void GlFrame::transparentPassInOrder(const std::vector<std::pair<size_t, size_t>>& triangles, const std::string& main,
+                                     const std::vector<std::string>& colours, const std::string& depth,
+                                     const PipelineState& state) {
+  const PassQuery timed(*this, "transparent");
+  // Each part's triangles in the sequence's order, as an index buffer of its own: a run of the
+  // sequence in one part is then a range of that buffer.
+  std::vector<std::vector<uint32_t>> ordered(parts_.size());
+  struct Run {
+    size_t part;
+    size_t first, count;  // in triangles, of ordered[part]
+  };
+  std::vector<Run> runs;
+  for (const auto& [part, triangle] : triangles) {
+    const std::vector<uint32_t>& indices = frame_.geometry.parts.at(part).indices;
+    if (runs.empty() || runs.back().part != part) runs.push_back({part, ordered[part].size() / 3, 0});
+    ++runs.back().count;
+    ordered[part].insert(ordered[part].end(), indices.begin() + std::ptrdiff_t(3 * triangle),
+                         indices.begin() + std::ptrdiff_t(3 * triangle + 3));
+  }
+  std::vector<GLuint> buffers(parts_.size(), 0);
+  for (size_t p = 0; p < parts_.size(); ++p) {
+    if (ordered[p].empty()) continue;
+    gl_.BindVertexArray(parts_[p].vao);
+    gl_.GenBuffers(1, &buffers[p]);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[p]);
+    gl_.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(ordered[p].size() * 4), ordered[p].data(), GL_STATIC_DRAW);
+  }
+  bindTargets(colours, depth);
+  applyPipelineState(gl_, state, int(colours.size()));
+  const PartUniforms uniforms = partUniforms(this->program(kSceneVertexShader, main, colours.size(), {}));
+  for (const Run& r : runs) {
+    usePart(uniforms, parts_[r.part]);
+    gl_.DrawElements(GL_TRIANGLES, GLsizei(3 * r.count), GL_UNSIGNED_INT, reinterpret_cast<const void*>(12 * r.first));
+  }
+  for (size_t p = 0; p < parts_.size(); ++p) {  // each part's own indices again
+    if (!buffers[p]) continue;
+    gl_.BindVertexArray(parts_[p].vao);
+    gl_.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, parts_[p].indices);
+    gl_.DeleteBuffers(1, &buffers[p]);
+  }
+  gl_.BindVertexArray(0);
+  context_.check("transparent pass in order");
 }
 
 GlFrame::PassQuery::PassQuery(GlFrame& frame, const char* kind) : frame_(frame), active_(frame.timing_) {
@@ -424,6 +475,26 @@ void GlFrame::blendOverBackground(const std::string& main, const std::vector<GlI
   composite.blend[0] = composite.blend[1] = compositeBlend();
   const PassQuery timed(*this, "composite");
   fullscreenDraw(main, {"opaque", "analysis"}, composite, inputs);
+}
+
+void GlFrame::compositeOntoBackgrounds(const std::string& resolve, const std::vector<GlInput>& inputs) {
+  for (const char* name : {"opaque", "analysis"}) {
+    const std::string copy = std::string("background_") + name;
+    if (!textures_.count(copy)) addScratch(copy, name);
+    this->copy(name, copy);
+  }
+  std::vector<GlInput> all = inputs;
+  all.push_back({"backgroundOpaque", "background_opaque"});
+  all.push_back({"backgroundAnalysis", "background_analysis"});
+  const PassQuery timed(*this, "composite");
+  fullscreenDraw(resolve + R"(
+void main() {
+  vec3 r0, r1;
+  if (!resolve(fetch(backgroundOpaque).rgb, fetch(backgroundAnalysis).rgb, r0, r1)) discard;
+  o0 = vec4(r0, 1.0);
+  o1 = vec4(r1, 1.0);
+})",
+                 {"opaque", "analysis"}, PipelineState{}, all);
 }
 
 }  // namespace oitref::glcheck

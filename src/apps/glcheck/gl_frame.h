@@ -60,10 +60,21 @@ class GlFrame {
   // The transparent objects in submission order: PassRunner::transparentPass.
   void transparentPass(const std::string& main, const std::vector<std::string>& colours, const std::string& depth,
                        const PipelineState& state, const std::vector<GlInput>& inputs = {});
+  // transparentPass with the triangles in this order instead: (part, triangle) of
+  // frame.geometry.parts, drawn as one draw per run of one part's triangles, which gives every
+  // pixel the fragments in the sequence's order, as methods/sorted.cpp's single draw does.
+  void transparentPassInOrder(const std::vector<std::pair<size_t, size_t>>& triangles, const std::string& main,
+                              const std::vector<std::string>& colours, const std::string& depth, const PipelineState& state);
   void fullscreenPass(const std::string& main, const std::vector<std::string>& colours, const PipelineState& state,
                       const std::vector<GlInput>& inputs = {});
   // `main` writes the resolved (colour, T) to o0 and o1, or discards: PassRunner::blendOverBackground.
   void blendOverBackground(const std::string& main, const std::vector<GlInput>& inputs);
+  // PassRunner::compositeOntoBackgrounds: `resolve` is GLSL defining
+  //   bool resolve(vec3 background0, vec3 background1, out vec3 result0, out vec3 result1)
+  // with the pixel's "opaque" and "analysis" colours; what it returns goes into them with alpha 1,
+  // or nothing where it returns false. Both are read from copies (scratch "background_opaque",
+  // "background_analysis"), since the pass writes them.
+  void compositeOntoBackgrounds(const std::string& resolve, const std::vector<GlInput>& inputs);
 
   // With timing on, each pass above runs inside a GL_TIME_ELAPSED timer query (the driver's own
   // clock of the pass). takePassTimes, after the frame's glFinish, returns the frame's passes in
@@ -106,6 +117,11 @@ class GlFrame {
   void bindTargets(const std::vector<std::string>& colours, const std::string& depth);
   void bindInputs(GLuint program, const std::vector<GlInput>& inputs);
   void drawParts(GLuint program, bool transparent, bool everything);
+  struct PartUniforms {
+    GLint particles, textured, alphaTest, objectIndex;
+  };
+  PartUniforms partUniforms(GLuint program);            // the locations; the texture unit set
+  void usePart(const PartUniforms& u, const Part& part);  // the part's uniforms, texture and vertex array
   const Texture& texture(const std::string& name) const;
 
   const GlContext& context_;

@@ -7,6 +7,7 @@
 #include "methods/det_math.h"
 #include "methods/method_common.h"
 #include "methods/methods.h"
+#include "methods/sorted_order.h"
 
 namespace oitref::glcheck {
 namespace {
@@ -34,6 +35,22 @@ void main() {
 })",
                       {"opaque", "analysis"}, "depth", state);
   }
+  return "opaque";
+}
+
+// sorted.cpp: OVER in the order of methods::sortedTriangleOrder (farthest centroid first).
+std::string sorted(GlFrame& f, const MethodOptions& o) {
+  f.opaquePass();
+  std::vector<std::pair<size_t, size_t>> order;
+  for (const methods::SortedTriangle& t : methods::sortedTriangleOrder(f.context(), o.is("sort", "triangle")))
+    order.emplace_back(t.part, t.index);
+  f.transparentPassInOrder(order, R"(
+void main() {
+  vec4 c = shadeSurface();
+  o0 = c;
+  o1 = c;
+})",
+                           {"opaque", "analysis"}, "depth", transparentState(f.context().profile, overBlend()));
   return "opaque";
 }
 
@@ -158,23 +175,11 @@ void main() {
   return "opaque";
 }
 
-// mboit.cpp's depth warp into [−1, 1] and its 4-power-moment absorbance, as GLSL. ln and exp are the
-// driver's fp32 log/exp, which mboit.cpp computes as llvmpipe does under math=llvmpipe
-// (oitref/core/shader_builtins.h) and with det_math.h's in double otherwise.
-std::string mboitFunctions(const MethodOptions& o, const Camera& camera) {
-  if (!o.is("moments", "power4") || !o.is("storage", "float"))
-    throw std::invalid_argument("glcheck runs mboit with moments=power4 storage=float only (got moments=" +
-                                o.text("moments") + " storage=" + o.text("storage") + ")");
-  const bool logWarp = o.is("warp", "log"), unitDepth = o.is("warp", "unit");
-  const float bias = o.is("bias", "auto") ? 5e-7f : float(o.number("bias"));  // power4's published β
-  const float logRange = float(methods::detLog(double(camera.farPlane) / double(camera.nearPlane)));
-  return "const float BIAS = " + glslFloat(bias) + ", OVERESTIMATION = " +
-         glslFloat(float(o.number("overestimation"))) + ", NEAR = " + glslFloat(camera.nearPlane) +
-         ", LOG_RANGE = " + glslFloat(logRange) + ", ALPHA_MAX = " + glslFloat(1.0f - 0x1p-20f) + ";\n" +
-         (logWarp     ? "float warp() { return 2.0 * log(viewDepth() / NEAR) / LOG_RANGE - 1.0; }\n"
-          : unitDepth ? "float warp() { return windowDepth(); }\n"
-                      : "float warp() { return 2.0 * windowDepth() - 1.0; }\n") +
-         "const vec4 BIAS_VECTOR = " + (unitDepth ? "vec4(0.5)" : "vec4(0.0, 0.375, 0.0, 0.375)") + ";\n" + R"(
+// moment_math.cpp's four-power-moment absorbance (powerMomentAbsorbance) in fp32, as GLSL:
+// `float absorbance(vec4 b, float z)` of the moments b (before the bias) at depth z.
+std::string momentAbsorbanceGlsl(float bias, float overestimation, const std::string& biasVector) {
+  return "const float BIAS = " + glslFloat(bias) + ", OVERESTIMATION = " + glslFloat(overestimation) +
+         ";\nconst vec4 BIAS_VECTOR = " + biasVector + ";\n" + R"(
 float absorbance(vec4 b, float z) {
   vec4 m = (1.0 - BIAS) * b + BIAS * BIAS_VECTOR;
   float d11 = m[1] - m[0] * m[0];
@@ -204,6 +209,24 @@ float absorbance(vec4 b, float z) {
   return (isnan(result) || isinf(result)) ? OVERESTIMATION : result;
 }
 )";
+}
+
+// mboit.cpp's depth warp into [−1, 1] and its 4-power-moment absorbance, as GLSL. ln and exp are the
+// driver's fp32 log/exp, which mboit.cpp computes as llvmpipe does under math=llvmpipe
+// (oitref/core/shader_builtins.h) and with det_math.h's in double otherwise.
+std::string mboitFunctions(const MethodOptions& o, const Camera& camera) {
+  if (!o.is("moments", "power4") || !o.is("storage", "float"))
+    throw std::invalid_argument("glcheck runs mboit with moments=power4 storage=float only (got moments=" +
+                                o.text("moments") + " storage=" + o.text("storage") + ")");
+  const bool logWarp = o.is("warp", "log"), unitDepth = o.is("warp", "unit");
+  const float bias = o.is("bias", "auto") ? 5e-7f : float(o.number("bias"));  // power4's published β
+  const float logRange = float(methods::detLog(double(camera.farPlane) / double(camera.nearPlane)));
+  return "const float NEAR = " + glslFloat(camera.nearPlane) + ", LOG_RANGE = " + glslFloat(logRange) +
+         ", ALPHA_MAX = " + glslFloat(1.0f - 0x1p-20f) + ";\n" +
+         (logWarp     ? "float warp() { return 2.0 * log(viewDepth() / NEAR) / LOG_RANGE - 1.0; }\n"
+          : unitDepth ? "float warp() { return windowDepth(); }\n"
+                      : "float warp() { return 2.0 * windowDepth() - 1.0; }\n") +
+         momentAbsorbanceGlsl(bias, float(o.number("overestimation")), unitDepth ? "vec4(0.5)" : "vec4(0.0, 0.375, 0.0, 0.375)");
 }
 
 // mboit.cpp: moments of −ln(1 − α), then WBOIT-style accumulation with w = T(z), resolve.
@@ -241,6 +264,47 @@ void main() {
 })",
                     {"accum", "reveal"}, "depth", st, {{"b0Map", "b0"}, {"momentMap", "moments"}});
   f.blendOverBackground(weightedResolveMain(!o.is("clamp", "none")), {{"accum", "accum"}, {"reveal", "reveal"}});
+  return "opaque";
+}
+
+// mt.cpp: optical depth and moments of u = ln(v/near)/ln(far/near), then WBOIT-style accumulation
+// with w = exp(−optical depth · clamp(bound, 0, 1)), resolve. ln and exp as in mboit above.
+std::string mt(GlFrame& f, const MethodOptions& o) {
+  const Camera& camera = f.context().scene.camera;
+  const float logRange = float(methods::detLog(double(camera.farPlane) / double(camera.nearPlane)));
+  const std::string functions = "const float NEAR = " + glslFloat(camera.nearPlane) + ", LOG_RANGE = " +
+                                glslFloat(logRange) + ", ALPHA_MAX = " + glslFloat(1.0f - 0.5f / 256.0f) + ";\n" +
+                                "float unitDepth() { return log(viewDepth() / NEAR) / LOG_RANGE; }\n" +
+                                momentAbsorbanceGlsl(float(o.number("bias")), 0.0f, "vec4(0.0, 0.375, 0.0, 0.375)");
+  f.opaquePass();
+  f.clear("optical_depth", glm::vec4(0.0f));
+  f.clear("moments", glm::vec4(0.0f));
+  f.clear("accum", glm::vec4(0.0f));
+  f.clear("reveal", glm::vec4(1.0f));
+  const PipelineState additive = transparentState(f.context().profile, additiveBlend());
+  f.transparentPass(functions + R"(
+void main() {
+  vec4 c = shadeSurface();
+  float a = -log(1.0 - min(c.a, ALPHA_MAX));
+  float u = unitDepth(), u2 = u * u;
+  o0 = vec4(a);
+  o1 = vec4(u, u2, u2 * u, u2 * u2) * a;
+})",
+                    {"optical_depth", "moments"}, "depth", additive);
+  PipelineState st = additive;
+  st.blend[1] = revealageBlend();
+  f.transparentPass(functions + R"(
+void main() {
+  vec4 c = shadeSurface();
+  float total = fetch(opticalDepth).r;
+  vec4 m = fetch(momentMap);
+  if (total != 0.0) m = m / total;
+  precise float w = exp(-clamp(absorbance(m, unitDepth()), 0.0, 1.0) * total);
+  o0 = vec4(c.rgb * c.a * w, c.a * w);
+  o1 = vec4(c.a);
+})",
+                    {"accum", "reveal"}, "depth", st, {{"opticalDepth", "optical_depth"}, {"momentMap", "moments"}});
+  f.blendOverBackground(weightedResolveMain(), {{"accum", "accum"}, {"reveal", "reveal"}});
   return "opaque";
 }
 
@@ -426,11 +490,38 @@ uint stochasticMask(float alpha) {
   return "opaque";
 }
 
+// meshkin3.cpp: t1 += (c·α, α) and t2 += (1/α, 1/α, 1/α, α) blended ONE, ONE; t3 *= (c, α) blended
+// ZERO, SRC_COLOR; out = t1.rgb − bg·t1.a + bg·t3.a + bg·t2.rgb·t3.a.
+std::string meshkin3(GlFrame& f, const MethodOptions&) {
+  f.opaquePass();
+  f.clear("t1", glm::vec4(0.0f));
+  f.clear("t2", glm::vec4(0.0f));
+  f.clear("t3", glm::vec4(1.0f));
+  f.transparentPass(R"(
+void main() {
+  vec4 c = shadeSurface();
+  o0 = vec4(c.rgb * c.a, c.a);
+  o1 = vec4(vec3(1.0 / c.a), c.a);
+})",
+                    {"t1", "t2"}, "depth", transparentState(f.context().profile, additiveBlend()));
+  f.transparentPass("void main() { o0 = shadeSurface(); }", {"t3"}, "depth",
+                    transparentState(f.context().profile, detail::states::kProduct));
+  f.compositeOntoBackgrounds(R"(
+bool resolve(vec3 bg0, vec3 bg1, out vec3 r0, out vec3 r1) {
+  vec4 s1 = fetch(t1), s2 = fetch(t2), s3 = fetch(t3);
+  r0 = s1.rgb - bg0 * s1.a + bg0 * s3.a + bg0 * s2.rgb * s3.a;
+  r1 = s1.rgb - bg1 * s1.a + bg1 * s3.a + bg1 * s2.rgb * s3.a;
+  return true;
+})",
+                             {{"t1", "t1"}, {"t2", "t2"}, {"t3", "t3"}});
+  return "opaque";
+}
+
 const std::vector<std::pair<std::string, GlMethod>>& registry() {
   static const std::vector<std::pair<std::string, GlMethod>> r = {
       {"opaque", opaque}, {"over", over}, {"wsum", wsum},   {"wavg", wavg},
       {"wboit", wboit},   {"mboit", mboit}, {"peel", peel}, {"screendoor", screendoor},
-      {"dualpeel", dualpeel}, {"stochastic", stochastic}};
+      {"dualpeel", dualpeel}, {"stochastic", stochastic}, {"meshkin3", meshkin3}, {"mt", mt}, {"sorted", sorted}};
   return r;
 }
 

@@ -9,6 +9,9 @@
 //             w = exp(−optical depth · bound); accum += (c·α·w, α·w), reveal *= (1 − α)
 //   composite: as WBOIT.
 // The reconstruction is moment_math.cpp's (the same fp32 closed form as mboit power4).
+// ln and exp are det_math.h's (the same bits on every machine); under math=llvmpipe they are the
+// driver's fp32 builtins in the GLSL's fp32 expressions (src/apps/glcheck/gl_methods.cpp, mt),
+// as mboit does.
 #include <algorithm>
 
 #include "methods/det_math.h"
@@ -16,6 +19,7 @@
 #include "methods/methods.h"
 #include "methods/moment_math.h"
 #include "methods/spread_count.h"
+#include "oitref/core/shader_builtins.h"
 
 namespace oitref::methods {
 namespace {
@@ -40,11 +44,17 @@ class Mt final : public OpaqueFirstMethod {
     // accum and reveal: cleared by their pass (accumulateWeightedBatch).
     const Camera& cam = context.scene.camera;
     const double logRange = detLog(double(cam.farPlane) / double(cam.nearPlane));
+    const bool driverMath = profile.math == ShaderMath::Llvmpipe, fused = profile.fma;
+    const float logRangeFloat = float(logRange);  // the GLSL's LOG_RANGE
     // The fragments' depths in [0, 1]: ln(view depth / near) / ln(far / near), a batch's
     // logarithms together (detLogBatch: the same bits as detLog).
     auto unitDepths = [&](const FragmentBatch& in, float* u) {
       const int count = in.count;
       if (count <= 0) return;  // never: it tells the compiler that x below is set
+      if (driverMath) {  // log(viewDepth() / NEAR) / LOG_RANGE
+        for (int i = 0; i < count; ++i) u[i] = llvmpipe::log(in.viewDepth[i] / cam.nearPlane, fused) / logRangeFloat;
+        return;
+      }
       double x[kShaderBatch], ln[kShaderBatch];
       for (int i = 0; i < count; ++i) x[i] = double(in.viewDepth[i]) / double(cam.nearPlane);
       detLogBatch(x, ln, count);
@@ -61,10 +71,16 @@ class Mt final : public OpaqueFirstMethod {
                              [&](const FragmentBatch& in, const glm::vec4* c, FragmentBatchOutput& out) {
                                const int count = in.count;
                                if (count <= 0) return;  // never (FragmentBatch); said so, GCC sees x written
-                               double x[kShaderBatch];
                                float ln[kShaderBatch], depth[kShaderBatch];
-                               for (int i = 0; i < count; ++i) x[i] = 1.0 - double(std::min(c[i].a, 1.0f - 0.5f / 256.0f));
-                               detLogFloatBatch(x, ln, count);
+                               if (driverMath) {  // log(1.0 − min(c.a, ALPHA_MAX))
+                                 float x[kShaderBatch];
+                                 for (int i = 0; i < count; ++i) x[i] = 1.0f - std::min(c[i].a, 1.0f - 0.5f / 256.0f);
+                                 llvmpipe::logBatch(x, ln, count, fused);
+                               } else {
+                                 double x[kShaderBatch];
+                                 for (int i = 0; i < count; ++i) x[i] = 1.0 - double(std::min(c[i].a, 1.0f - 0.5f / 256.0f));
+                                 detLogFloatBatch(x, ln, count);
+                               }
                                unitDepths(in, depth);
                                for (int i = 0; i < count; ++i) {
                                  const float a = -ln[i];
@@ -94,11 +110,15 @@ class Mt final : public OpaqueFirstMethod {
       unitDepths(in, u);
       powerMomentAbsorbanceBatch(4, b, u, count, bias, biasVector, 0.0f, absorbance, fellBack);
       uint64_t fell = 0;
-      for (int i = 0; i < count; ++i) {
-        fell += fellBack[i];
-        exponent[i] = -double(std::clamp(absorbance[i], 0.0f, 1.0f)) * double(total[i]);
-      }
+      for (int i = 0; i < count; ++i) fell += fellBack[i];
       if (fell) fallbacks.add(fell);
+      if (driverMath) {  // exp(−clamp(absorbance, 0, 1) · optical depth)
+        float x[kShaderBatch];
+        for (int i = 0; i < count; ++i) x[i] = -std::clamp(absorbance[i], 0.0f, 1.0f) * total[i];
+        llvmpipe::expBatch(x, w, count, fused);
+        return;
+      }
+      for (int i = 0; i < count; ++i) exponent[i] = -double(std::clamp(absorbance[i], 0.0f, 1.0f)) * double(total[i]);
       detExpFloatBatch(exponent, w, count);
     });
 

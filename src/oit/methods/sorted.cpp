@@ -8,43 +8,22 @@
 
 #include "methods/method_common.h"
 #include "methods/methods.h"
+#include "methods/sorted_order.h"
 
 namespace oitref::methods {
 namespace {
-
-struct Triangle {
-  size_t part, index;  // triangle `index` of geometry.parts[part]
-  double depth;        // view depth of its centroid
-};
-
-double viewDepth(const glm::mat4& view, glm::dvec3 p) { return -(glm::dmat4(view) * glm::dvec4(p, 1.0)).z; }
 
 class Sorted final : public OpaqueFirstMethod {
  public:
   explicit Sorted(const MethodOptions& o) : byTriangle_(o.is("sort", "triangle")) {}
   const MethodInfo& info() const override { return sortedInfo(); }
   void drawAfterOpaque(const FrameContext& context, PassRunner& run, FrameTargets& targets, FrameResult& result) override {
-    const glm::mat4 view = context.scene.camera.view();
-    std::vector<Triangle> order;
-    for (size_t p = 0; p < context.geometry.parts.size(); ++p) {
-      const ScenePart& part = context.geometry.parts[p];
-      if (!part.transparent) continue;
-      glm::dvec3 objectCentroid(0.0);
-      for (const glm::vec3& v : part.positions) objectCentroid += glm::dvec3(v);
-      objectCentroid /= double(std::max<size_t>(1, part.positions.size()));
-      for (size_t t = 0; t < part.triangleCount(); ++t) {
-        glm::dvec3 c(0.0);
-        for (int k = 0; k < 3; ++k) c += glm::dvec3(part.positions[part.indices[3 * t + size_t(k)]]);
-        order.push_back({p, t, viewDepth(view, byTriangle_ ? c / 3.0 : objectCentroid)});
-      }
-    }
-    // Farthest first; equal depths keep submission order.
-    std::stable_sort(order.begin(), order.end(), [](const Triangle& a, const Triangle& b) { return a.depth > b.depth; });
+    const std::vector<SortedTriangle> order = sortedTriangleOrder(context, byTriangle_);
 
     // One draw of all sorted triangles; the primitive id leads back to the object's shading.
     ScenePart merged;
     std::vector<size_t> objectOf;
-    for (const Triangle& t : order) {
+    for (const SortedTriangle& t : order) {
       const ScenePart& part = context.geometry.parts[t.part];
       for (int k = 0; k < 3; ++k) {
         const uint32_t v = part.indices[3 * t.index + size_t(k)];
