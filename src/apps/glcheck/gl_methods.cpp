@@ -229,16 +229,29 @@ std::string mboitFunctions(const MethodOptions& o, const Camera& camera) {
          momentAbsorbanceGlsl(bias, float(o.number("overestimation")), unitDepth ? "vec4(0.5)" : "vec4(0.0, 0.375, 0.0, 0.375)");
 }
 
-// mboit.cpp: moments of −ln(1 − α), then WBOIT-style accumulation with w = T(z), resolve.
-std::string mboit(GlFrame& f, const MethodOptions& o) {
+// The passes MBOIT and MT share: the moments of every fragment into (`total`, "moments"),
+// blended ONE, ONE; then the WBOIT-style accumulation, whose shader reads them as totalMap and
+// momentMap; then the resolve over the background. `momentsMain`, `weightMain`: their GLSL.
+std::string momentWeightedFrame(GlFrame& f, const std::string& total, const std::string& momentsMain,
+                                const std::string& weightMain, bool clamped) {
   f.opaquePass();
-  f.clear("b0", glm::vec4(0.0f));
+  f.clear(total, glm::vec4(0.0f));
   f.clear("moments", glm::vec4(0.0f));
   f.clear("accum", glm::vec4(0.0f));
   f.clear("reveal", glm::vec4(1.0f));
-  const std::string functions = mboitFunctions(o, f.context().scene.camera);
   const PipelineState additive = transparentState(f.context().profile, additiveBlend());
-  f.transparentPass(functions + R"(
+  f.transparentPass(momentsMain, {total, "moments"}, "depth", additive);
+  PipelineState st = additive;
+  st.blend[1] = revealageBlend();
+  f.transparentPass(weightMain, {"accum", "reveal"}, "depth", st, {{"totalMap", total}, {"momentMap", "moments"}});
+  f.blendOverBackground(weightedResolveMain(clamped), {{"accum", "accum"}, {"reveal", "reveal"}});
+  return "opaque";
+}
+
+// mboit.cpp: moments of −ln(1 − α), then WBOIT-style accumulation with w = T(z), resolve.
+std::string mboit(GlFrame& f, const MethodOptions& o) {
+  const std::string functions = mboitFunctions(o, f.context().scene.camera);
+  return momentWeightedFrame(f, "b0", functions + R"(
 void main() {
   vec4 c = shadeSurface();
   float a = -log(1.0 - min(c.a, ALPHA_MAX));
@@ -247,13 +260,10 @@ void main() {
   o0 = vec4(a);
   o1 = vec4(z, z2, z2 * z, z2 * z2) * a;
 })",
-                    {"b0", "moments"}, "depth", additive);
-  PipelineState st = additive;
-  st.blend[1] = revealageBlend();
-  f.transparentPass(functions + R"(
+                             functions + R"(
 void main() {
   vec4 c = shadeSurface();
-  float b0 = fetch(b0Map).r;
+  float b0 = fetch(totalMap).r;
   precise float w = 1.0;  // precise: NIR would multiply b0 by exp's log2(e) before the absorbance
   if (b0 >= )" + glslFloat(0.00100050033f) + R"() {
     vec4 m = fetch(momentMap) / b0;
@@ -262,9 +272,7 @@ void main() {
   o0 = vec4(c.rgb * c.a * w, c.a * w);
   o1 = vec4(c.a);
 })",
-                    {"accum", "reveal"}, "depth", st, {{"b0Map", "b0"}, {"momentMap", "moments"}});
-  f.blendOverBackground(weightedResolveMain(!o.is("clamp", "none")), {{"accum", "accum"}, {"reveal", "reveal"}});
-  return "opaque";
+                             !o.is("clamp", "none"));
 }
 
 // mt.cpp: optical depth and moments of u = ln(v/near)/ln(far/near), then WBOIT-style accumulation
@@ -276,13 +284,7 @@ std::string mt(GlFrame& f, const MethodOptions& o) {
                                 glslFloat(logRange) + ", ALPHA_MAX = " + glslFloat(1.0f - 0.5f / 256.0f) + ";\n" +
                                 "float unitDepth() { return log(viewDepth() / NEAR) / LOG_RANGE; }\n" +
                                 momentAbsorbanceGlsl(float(o.number("bias")), 0.0f, "vec4(0.0, 0.375, 0.0, 0.375)");
-  f.opaquePass();
-  f.clear("optical_depth", glm::vec4(0.0f));
-  f.clear("moments", glm::vec4(0.0f));
-  f.clear("accum", glm::vec4(0.0f));
-  f.clear("reveal", glm::vec4(1.0f));
-  const PipelineState additive = transparentState(f.context().profile, additiveBlend());
-  f.transparentPass(functions + R"(
+  return momentWeightedFrame(f, "optical_depth", functions + R"(
 void main() {
   vec4 c = shadeSurface();
   float a = -log(1.0 - min(c.a, ALPHA_MAX));
@@ -290,22 +292,17 @@ void main() {
   o0 = vec4(a);
   o1 = vec4(u, u2, u2 * u, u2 * u2) * a;
 })",
-                    {"optical_depth", "moments"}, "depth", additive);
-  PipelineState st = additive;
-  st.blend[1] = revealageBlend();
-  f.transparentPass(functions + R"(
+                             functions + R"(
 void main() {
   vec4 c = shadeSurface();
-  float total = fetch(opticalDepth).r;
+  float total = fetch(totalMap).r;
   vec4 m = fetch(momentMap);
   if (total != 0.0) m = m / total;
   precise float w = exp(-clamp(absorbance(m, unitDepth()), 0.0, 1.0) * total);
   o0 = vec4(c.rgb * c.a * w, c.a * w);
   o1 = vec4(c.a);
 })",
-                    {"accum", "reveal"}, "depth", st, {{"opticalDepth", "optical_depth"}, {"momentMap", "moments"}});
-  f.blendOverBackground(weightedResolveMain(), {{"accum", "accum"}, {"reveal", "reveal"}});
-  return "opaque";
+                             true);
 }
 
 // peel.cpp: each pass keeps the nearest layer strictly behind the previous one (compared in

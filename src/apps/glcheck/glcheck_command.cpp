@@ -213,6 +213,17 @@ int runRasterCheckCommand(RasterCheckCommand& c) {
 }  // namespace oitref::glcheck
 
 namespace oitref::tools {
+namespace {
+
+// glcheck::TraceLink's two files.
+void addTraceOptions(CLI::App* cmd, std::string& recordTrace, std::string& gpuReads) {
+  cmd->add_option("--record-trace", recordTrace,
+                  "Also record every GL call into this file, for oitref-gpu-capture frames on a GPU machine");
+  cmd->add_option("--gpu-reads", gpuReads,
+                  "Compare with the texels oitref-gpu-capture frames read on a GPU (same scenes and options as the recording)");
+}
+
+}  // namespace
 
 void addGlcheckCommand(CLI::App& app, int& exitCode) {
   CLI::App* cmd = app.add_subcommand("glcheck", "Check oitref against a real OpenGL driver (headless EGL), bit for bit");
@@ -257,10 +268,7 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
                     "oitref's threads, and llvmpipe's through LP_NUM_THREADS (default: LP_NUM_THREADS, else every hardware thread)")
       ->check(CLI::Range(1, 1024));
   scene->add_option("--heatmaps", s->options.heatmaps, "Write GL and oitref images and error heatmaps into this folder");
-  scene->add_option("--record-trace", s->recordTrace,
-                    "Also record every GL call into this file, for oitref-gpu-capture frames on a GPU machine");
-  scene->add_option("--gpu-reads", s->gpuReads,
-                    "Compare with the texels oitref-gpu-capture frames read on a GPU (same scenes and options as the recording)");
+  addTraceOptions(scene, s->recordTrace, s->gpuReads);
   scene->callback([s, &exitCode] {
     exitCode = runReportingErrors("glcheck scene", [&] { return glcheck::runSceneCheckCommand(*s); });
   });
@@ -276,10 +284,7 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str();
   raster->add_option("--require", r->options.require, "The profile that must match in every pixel ('none': report only)")
       ->capture_default_str();
-  raster->add_option("--record-trace", r->recordTrace,
-                     "Also record every GL call into this file, for oitref-gpu-capture frames on a GPU machine");
-  raster->add_option("--gpu-reads", r->gpuReads,
-                     "Compare with the texels oitref-gpu-capture frames read on a GPU (same options as the recording)");
+  addTraceOptions(raster, r->recordTrace, r->gpuReads);
   raster->callback([r, &exitCode] {
     exitCode = runReportingErrors("glcheck raster", [&] { return glcheck::runRasterCheckCommand(*r); });
   });
