@@ -127,7 +127,7 @@ std::vector<Pixels> drawOnGl(const GlContext& context, const std::vector<Triangl
   gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, textures[0], 0);
   gl.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, textures[1], 0);
   if (gl.CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error("glcheck raster: the RGBA32F + D32F framebuffer is not complete");
+    throw std::runtime_error("the RGBA32F + D32F framebuffer is not complete");
   const GLenum drawBuffer = GL_COLOR_ATTACHMENT0;
   gl.DrawBuffers(1, &drawBuffer);
   gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
@@ -299,11 +299,11 @@ std::vector<Rule> rulesOf(const std::vector<std::string>& profiles, int size) {
 
 RasterCheckResult runRasterCheck(const GlContext& context, const RasterCheckOptions& o, std::ostream& out) {
   if (o.size < 8 || o.size > 1024 || (o.size & (o.size - 1)))
-    throw std::invalid_argument("glcheck raster: --size must be a power of two from 8 to 1024, got " + std::to_string(o.size));
+    throw std::invalid_argument("--size must be a power of two from 8 to 1024, got " + std::to_string(o.size));
   const std::vector<Rule> rules = rulesOf(o.profiles, o.size);
   bool requireFound = o.require.empty();
   for (const Rule& r : rules) requireFound |= r.profileText == o.require;
-  if (!requireFound) throw std::invalid_argument("glcheck raster: --require " + o.require + " is not among --profiles");
+  if (!requireFound) throw std::invalid_argument("--require " + o.require + " is not among --profiles");
 
   const std::vector<Triangle> triangles = generateTriangles(o.triangles, o.seed, o.size);
   const std::vector<Pixels> gl = drawOnGl(context, triangles, o.size);
