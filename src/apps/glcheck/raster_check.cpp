@@ -108,7 +108,7 @@ struct Pixels {
   std::vector<uint32_t> depth;
 };
 
-std::vector<Pixels> drawOnGl(const GlContext& context, const std::vector<Triangle>& triangles, int size) {
+std::vector<Pixels> drawOnGl(const GlContext& context, const std::vector<Triangle>& triangles, uint32_t seed, int size) {
   const GlFunctions& gl = context.gl();
   std::vector<float> vertices;
   for (const Triangle& t : triangles)
@@ -149,6 +149,18 @@ std::vector<Pixels> drawOnGl(const GlContext& context, const std::vector<Triangl
   gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
   context.check("glcheck raster set-up");
 
+  // First, the options themselves, cleared into the target and read back (exact in RGBA32F): reads
+  // recorded with other options are then an error, not a comparison of other triangles.
+  const float header[4] = {float(seed >> 16), float(seed & 0xffffu), float(triangles.size()), float(size)};
+  float echoed[4] = {};
+  gl.ClearBufferfv(GL_COLOR, 0, header);
+  gl.ReadPixels(0, 0, 1, 1, GL_RGBA, GL_FLOAT, echoed);
+  if (std::memcmp(header, echoed, sizeof header) != 0) {
+    char text[200];
+    std::snprintf(text, sizeof text, "the GL reads are of seed %.0f, %.0f triangles, size %.0f; these options ask for seed %u, %zu, %d",
+                  double(echoed[0]) * 65536.0 + double(echoed[1]), double(echoed[2]), double(echoed[3]), seed, triangles.size(), size);
+    throw std::runtime_error(text);
+  }
   const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
   std::vector<Pixels> out(triangles.size());
   for (size_t t = 0; t < triangles.size(); ++t) {
@@ -306,7 +318,7 @@ RasterCheckResult runRasterCheck(const GlContext& context, const RasterCheckOpti
   if (!requireFound) throw std::invalid_argument("--require " + o.require + " is not among --profiles");
 
   const std::vector<Triangle> triangles = generateTriangles(o.triangles, o.seed, o.size);
-  const std::vector<Pixels> gl = drawOnGl(context, triangles, o.size);
+  const std::vector<Pixels> gl = drawOnGl(context, triangles, o.seed, o.size);
   out << triangles.size() << " triangles (seed " << o.seed << "), each alone in " << o.size << "x" << o.size
       << " pixels: D32F depth with test ALWAYS, RGBA32F (attribute, gl_FragCoord.z, 1/gl_FragCoord.w)\n";
 
