@@ -1,6 +1,7 @@
 #include "glcheck/raster_check.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -186,6 +187,14 @@ struct Rule {
   PipelineState state;
 };
 
+// The fragment shader of kFragmentShader: (attribute, gl_FragCoord.z, viewDepth, 1).
+const FragmentProgram& oitrefProgram() {
+  static const FragmentProgram program = programOf([](const FragmentInput& in, FragmentOutput& out) {
+    out.write(0, {in.attribute(0), in.depth, in.viewDepth, 1.0f});
+  });
+  return program;
+}
+
 Pixels drawOnOitref(Renderer& renderer, const Rule& rule, const Triangle& t, int size, Image& colour, DepthBuffer& depth) {
   Geometry g;
   g.attributeCount = 1;
@@ -196,10 +205,7 @@ Pixels drawOnOitref(Renderer& renderer, const Rule& rule, const Triangle& t, int
   fb.depth = &depth;
   fb.clearColor[0] = glm::vec4(0.0f);
   fb.clearDepth = 1.0;
-  const FragmentProgram program = programOf([](const FragmentInput& in, FragmentOutput& out) {
-    out.write(0, {in.attribute(0), in.depth, in.viewDepth, 1.0f});
-  });
-  renderer.draw(fb, rule.state, g, program);
+  renderer.draw(fb, rule.state, g, oitrefProgram());
   Pixels p;
   p.colour.resize(size_t(size) * size * 4);
   p.depth.resize(size_t(size) * size);
@@ -207,18 +213,6 @@ Pixels drawOnOitref(Renderer& renderer, const Rule& rule, const Triangle& t, int
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) p.depth[size_t(y) * size + x] = depth.load(x, y);
   return p;
-}
-
-uint32_t bitsOf(float f) {
-  uint32_t b;
-  std::memcpy(&b, &f, 4);
-  return b;
-}
-
-float floatOf(uint32_t bits) {
-  float f;
-  std::memcpy(&f, &bits, 4);
-  return f;
 }
 
 void keepLargest(double& largest, float a, float b) { largest = std::max(largest, std::fabs(double(a) - double(b))); }
@@ -240,11 +234,11 @@ void tally(RasterCheckRow& row, const Pixels& gl, const Pixels& ours) {
     if (!glCovers) continue;
     ++row.both;
     row.depthEqual += gl.depth[i] == ours.depth[i];
-    keepLargest(row.depthMaxError, floatOf(gl.depth[i]), floatOf(ours.depth[i]));
-    row.fragZEqual += bitsOf(g[1]) == bitsOf(o[1]);
-    row.attributeEqual += bitsOf(g[0]) == bitsOf(o[0]);
+    keepLargest(row.depthMaxError, std::bit_cast<float>(gl.depth[i]), std::bit_cast<float>(ours.depth[i]));
+    row.fragZEqual += std::bit_cast<uint32_t>(g[1]) == std::bit_cast<uint32_t>(o[1]);
+    row.attributeEqual += std::bit_cast<uint32_t>(g[0]) == std::bit_cast<uint32_t>(o[0]);
     keepLargest(row.attributeMaxError, g[0], o[0]);
-    row.viewDepthEqual += bitsOf(g[2]) == bitsOf(o[2]);
+    row.viewDepthEqual += std::bit_cast<uint32_t>(g[2]) == std::bit_cast<uint32_t>(o[2]);
     keepLargest(row.viewDepthMaxError, g[2], o[2]);
   }
   row.trianglesWithCoverageDiffering += coverageDiffers;
@@ -327,7 +321,7 @@ RasterCheckResult runRasterCheck(const GlContext& context, const RasterCheckOpti
     for (size_t i = 0; i < p.depth.size(); ++i)
       if (p.colour[4 * i + 3] == 1.0f) {
         ++result.glPixels;
-        result.glDepthIsFragZ += p.depth[i] == bitsOf(p.colour[4 * i + 1]);
+        result.glDepthIsFragZ += p.depth[i] == std::bit_cast<uint32_t>(p.colour[4 * i + 1]);
       }
   out << "the driver's stored depth equals its own gl_FragCoord.z at " << share(result.glDepthIsFragZ, result.glPixels)
       << " of " << result.glPixels << " covered pixels\n";
