@@ -128,6 +128,7 @@ GlFrame::GlFrame(const GlContext& context, const FrameContext& frame, const std:
     if (object.texture) p.texture = uploadTexture(object);
     if (object.alphaTest) p.alphaTest = *object.alphaTest;
     p.objectIndex = int(sp.objectIndex);
+    p.index = int(parts_.size());
     p.indexCount = GLsizei(g.indices.size());
     gl_.GenVertexArrays(1, &p.vao);
     gl_.BindVertexArray(p.vao);
@@ -172,6 +173,7 @@ GlFrame::~GlFrame() {
     gl_.DeleteVertexArrays(1, &p.vao);
   }
   gl_.DeleteVertexArrays(1, &emptyVao_);
+  if (!storage_.empty()) gl_.DeleteBuffers(GLsizei(storage_.size()), storage_.data());
 }
 
 const GlFrame::Texture& GlFrame::texture(const std::string& name) const {
@@ -320,7 +322,8 @@ GLuint GlFrame::uploadTexture(const SceneObject& object) {
 GlFrame::PartUniforms GlFrame::partUniforms(GLuint program) {
   gl_.Uniform1i(gl_.GetUniformLocation(program, "surfaceTexture"), GLint(kSurfaceTextureUnit));
   return {gl_.GetUniformLocation(program, "particles"), gl_.GetUniformLocation(program, "textured"),
-          gl_.GetUniformLocation(program, "alphaTest"), gl_.GetUniformLocation(program, "objectIndex")};
+          gl_.GetUniformLocation(program, "alphaTest"), gl_.GetUniformLocation(program, "objectIndex"),
+          gl_.GetUniformLocation(program, "partIndex")};
 }
 
 void GlFrame::usePart(const PartUniforms& u, const Part& p) {
@@ -328,6 +331,7 @@ void GlFrame::usePart(const PartUniforms& u, const Part& p) {
   gl_.Uniform1i(u.textured, p.texture ? 1 : 0);
   gl_.Uniform1f(u.alphaTest, p.alphaTest);
   if (u.objectIndex >= 0) gl_.Uniform1i(u.objectIndex, p.objectIndex);
+  if (u.partIndex >= 0) gl_.Uniform1i(u.partIndex, p.index);
   if (p.texture) {
     gl_.ActiveTexture(GL_TEXTURE0 + kSurfaceTextureUnit);
     gl_.BindTexture(GL_TEXTURE_2D, p.texture);
@@ -496,5 +500,17 @@ void main() {
 })",
                  {"opaque", "analysis"}, PipelineState{}, all);
 }
+
+void GlFrame::storageBuffer(GLuint binding, size_t bytes, const void* data) {
+  GLuint b = 0;
+  gl_.GenBuffers(1, &b);
+  storage_.push_back(b);
+  gl_.BindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+  gl_.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(bytes), data, GL_DYNAMIC_COPY);
+  gl_.BindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, b);
+  context_.check("creating a shader storage buffer");
+}
+
+void GlFrame::storageBarrier() { gl_.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT); }
 
 }  // namespace oitref::glcheck

@@ -52,7 +52,8 @@ class GlFrame {
   //   float windowDepth(), viewDepth()      FragmentInput's depth and viewDepth
   //   float powInt(float, uint)             methods/power.h
   //   vec4 fetch(sampler2D)                 texelFetch at this pixel
-  // and the samplers named in `inputs`.
+  // and the samplers named in `inputs`. A scene part's draws set `uniform int objectIndex` and
+  // `uniform int partIndex` where `main` declares them.
 
   // "opaque" cleared to the background, "depth" to 1, the opaque objects (all with
   // `everything`) drawn with depth test LESS and writes: PassRunner::opaquePass.
@@ -69,6 +70,10 @@ class GlFrame {
                       const std::vector<GlInput>& inputs = {});
   // `main` writes the resolved (colour, T) to o0 and o1, or discards: PassRunner::blendOverBackground.
   void blendOverBackground(const std::string& main, const std::vector<GlInput>& inputs);
+  // A shader storage buffer of `bytes` (its contents `data`, or undefined) at `binding`, kept
+  // until the frame ends; storageBarrier makes a pass's writes to it visible to the next pass.
+  void storageBuffer(GLuint binding, size_t bytes, const void* data = nullptr);
+  void storageBarrier();
   // PassRunner::compositeOntoBackgrounds: `resolve` is GLSL defining
   //   bool resolve(vec3 background0, vec3 background1, out vec3 result0, out vec3 result1)
   // with the pixel's "opaque" and "analysis" colours; what it returns goes into them with alpha 1,
@@ -108,6 +113,7 @@ class GlFrame {
     GLuint texture = 0;        // the object's texture with its levels and sampler state; 0: none
     float alphaTest = -1.0f;   // the object's alpha_test; < 0: none
     int objectIndex = 0;       // the object's index in the scene (FragmentInput::drawId): uniform `objectIndex`
+    int index = 0;             // the part's place in the submission order: uniform `partIndex`
   };
   // The object's texture as a GL texture object (every level as oitref holds it, so both sample
   // the same texels) with the sampler's filters and wraps.
@@ -118,7 +124,7 @@ class GlFrame {
   void bindInputs(GLuint program, const std::vector<GlInput>& inputs);
   void drawParts(GLuint program, bool transparent, bool everything);
   struct PartUniforms {
-    GLint particles, textured, alphaTest, objectIndex;
+    GLint particles, textured, alphaTest, objectIndex, partIndex;
   };
   PartUniforms partUniforms(GLuint program);            // the locations; the texture unit set
   void usePart(const PartUniforms& u, const Part& part);  // the part's uniforms, texture and vertex array
@@ -131,6 +137,7 @@ class GlFrame {
   std::map<std::string, GLuint> framebuffers_;
   std::map<std::string, GLuint> programs_;
   std::vector<Part> parts_;
+  std::vector<GLuint> storage_;
   GLuint emptyVao_ = 0;
   bool timing_ = false;
   std::vector<GLuint> queries_;           // timer queries, reused frame after frame

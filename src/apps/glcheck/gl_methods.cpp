@@ -518,7 +518,7 @@ const std::vector<std::pair<std::string, GlMethod>>& registry() {
   static const std::vector<std::pair<std::string, GlMethod>> r = {
       {"opaque", opaque}, {"over", over}, {"wsum", wsum},   {"wavg", wavg},
       {"wboit", wboit},   {"mboit", mboit}, {"peel", peel}, {"screendoor", screendoor},
-      {"dualpeel", dualpeel}, {"stochastic", stochastic}, {"meshkin3", meshkin3}, {"mt", mt}, {"sorted", sorted}};
+      {"dualpeel", dualpeel}, {"stochastic", stochastic}, {"meshkin3", meshkin3}, {"mt", mt}, {"sorted", sorted}, {"abuffer", abuffer}};
   return r;
 }
 

@@ -15,6 +15,9 @@ namespace oitref::glcheck {
 // ("opaque", or "final" for wsum). The analysis copy is "analysis".
 using GlMethod = std::string (*)(GlFrame& frame, const MethodOptions& options);
 
+// The A-buffer's GL version (gl_abuffer.cpp).
+std::string abuffer(GlFrame& frame, const MethodOptions& options);
+
 // nullptr when the method has no GL version.
 GlMethod findGlMethod(const std::string& name);
 // The methods with a GL version, in the order `oitref methods` lists them.

@@ -146,7 +146,12 @@ std::vector<SceneCheckRow> runSceneCheck(const GlContext& context, const SceneCh
       const MethodOptions options(method->info(), o.methodOptions);
       const FrameResult ours = frames.render(*method);
       GlFrame gl(context, frame, method->attachments());
-      const std::string presentedName = findGlMethod(name)(gl, options);
+      std::string presentedName;
+      try {
+        presentedName = findGlMethod(name)(gl, options);
+      } catch (const std::invalid_argument& e) {  // a frame the method's GL version cannot draw
+        throw std::invalid_argument(path + ": " + e.what());
+      }
       const Image glPresented = gl.read(presentedName), glAnalysis = gl.read("analysis");
       SceneCheckRow row;
       row.scene = sceneName;
