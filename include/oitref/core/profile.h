@@ -25,13 +25,16 @@
 //            whose sources and constants are first stored as fp16) in a two-product adder that
 //            rounds each product to odd at p + 4 bits below the larger exponent estimate.
 //            Texture filters with 8-bit weights over texels widened to 16 bits (RGBA8).
+//            Coverage as the GPU's: 8 sub-pixel bits, left and bottom edges (fill=bottom_left);
+//            depth and attributes interpolated in double from the snapped vertices
+//            (raster=nvidia); the GPU's own rounding after that is not modelled.
 //
 // A profile string may override single fields: "exact,fp16=rtz", "llvmpipe,unorm=exact".
 // Keys: fp16, packed (F11/F10), minifloat (user minifloat formats): rne|rtz;
 // unorm: exact|fp32|nvidia; unorm_blend: float|integer|nvidia; float_blend: ieee|llvmpipe|nvidia;
 // fma: on|off; texture: exact|llvmpipe|nvidia (the texture filter's weights, docs/nvidia.md);
-// raster: exact|llvmpipe (clipping, snapping, coverage, interpolation and depth conversion);
-// math: exact|llvmpipe (the shaders' log and exp).
+// raster: exact|llvmpipe|nvidia (clipping, snapping, coverage, interpolation, depth conversion);
+// math: exact|llvmpipe (the shaders' log and exp); fill: state|bottom_left (edge coverage).
 #pragma once
 
 #include <string>
@@ -46,12 +49,19 @@ enum class UnormBlend : uint8_t { Float, Integer, Nvidia };
 enum class FloatBlend : uint8_t { Ieee, Llvmpipe, Nvidia };
 // How the pipeline before the fragment shader computes: Exact interpolates each fragment from the
 // original triangle in double (src/core/pipeline/fragment_ops.h); Llvmpipe is Mesa 22.3.6's
-// arithmetic, fp32 from the clipper to the depth buffer (src/core/pipeline/llvmpipe_setup.h).
-enum class Rasterization : uint8_t { Exact, Llvmpipe };
+// arithmetic, fp32 from the clipper to the depth buffer (src/core/pipeline/llvmpipe_setup.h);
+// Nvidia is Exact's arithmetic from the vertices as the GPU snapped them (src/core/pipeline/setup.cpp).
+enum class Rasterization : uint8_t { Exact, Llvmpipe, Nvidia };
 // The GLSL builtins the methods' shaders call where GLSL leaves their precision open (log, exp):
 // Exact rounds the exact value once (the methods' det_math.h, in double); Llvmpipe is gallivm's
 // fp32 polynomials (oitref/core/shader_builtins.h), the shader's surrounding arithmetic in fp32.
 enum class ShaderMath : uint8_t { Exact, Llvmpipe };
+// Which samples on a triangle's edge it covers, a choice GL leaves to the implementation
+// (GL 4.6 §14.6.1): State takes PipelineState::raster (fill convention and sub-pixel bits) as
+// set; BottomLeft snaps to 8 sub-pixel bits and takes left and bottom edges in GL's window
+// coordinates whatever the state, as llvmpipe does in a framebuffer object (lp_setup_tri.c) and
+// as an NVIDIA Hopper GPU was measured to (docs/nvidia.md, "Coverage, depth and interpolation").
+enum class FillRule : uint8_t { State, BottomLeft };
 
 struct Profile {
   std::string name = "exact";
@@ -65,6 +75,7 @@ struct Profile {
   TextureFiltering texture = TextureFiltering::Exact;  // texture filters' arithmetic (oitref/core/texture.h)
   Rasterization raster = Rasterization::Exact;
   ShaderMath math = ShaderMath::Exact;
+  FillRule fill = FillRule::State;
 
   bool operator==(const Profile&) const = default;
   std::string describe() const;  // every field, e.g. for reports and failing tests

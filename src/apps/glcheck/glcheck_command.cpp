@@ -205,7 +205,10 @@ int runRasterCheckCommand(RasterCheckCommand& c) {
   const RasterCheckResult r = runRasterCheck(context, o, std::cout);
   link.finish();
   if (!o.require.empty())
-    std::cout << "\n" << (r.pass ? "every pixel equal" : "pixels differ") << " under " << o.require << "\n";
+    std::cout << "\n"
+              << (o.requireCoverageOnly ? (r.pass ? "every pixel covered alike" : "coverage differs")
+                                        : (r.pass ? "every pixel equal" : "pixels differ"))
+              << " under " << o.require << "\n";
   return r.pass ? 0 : 1;
 }
 
@@ -280,10 +283,12 @@ void addGlcheckCommand(CLI::App& app, int& exitCode) {
   raster->add_option("--triangles", r->options.triangles, "How many triangles")->capture_default_str()->check(CLI::Range(1, 100000));
   raster->add_option("--seed", r->options.seed, "Seed of the triangles")->capture_default_str();
   raster->add_option("--size", r->options.size, "Framebuffer side in pixels, a power of two")->capture_default_str();
-  raster->add_option("--profiles", r->profiles, "oitref profiles to compare, separated by ';' (raster=exact ones with both fill rules)")
+  raster->add_option("--profiles", r->profiles, "oitref profiles to compare, separated by ';' (those with fill=state once with each fill convention)")
       ->capture_default_str();
   raster->add_option("--require", r->options.require, "The profile that must match in every pixel ('none': report only)")
       ->capture_default_str();
+  raster->add_flag("--require-coverage", r->options.requireCoverageOnly,
+                   "--require asks for the same covered pixels only; depth and interpolation are reported");
   addTraceOptions(raster, r->recordTrace, r->gpuReads);
   raster->callback([r, &exitCode] {
     exitCode = runReportingErrors("glcheck raster", [&] { return glcheck::runRasterCheckCommand(*r); });

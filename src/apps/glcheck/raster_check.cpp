@@ -287,7 +287,8 @@ std::vector<Rule> rulesOf(const std::vector<std::string>& profiles, int size) {
     rule.state.depth.testEnabled = true;
     rule.state.depth.func = CompareFunc::Always;
     rule.state.viewport = {0, 0, size, size};
-    if (rule.state.profile.raster == Rasterization::Llvmpipe) {  // its fill rule is llvmpipe's own
+    // Where the profile decides the fill rule (llvmpipe's, the NVIDIA GPU's), the state's is unused.
+    if (rule.state.profile.raster == Rasterization::Llvmpipe || rule.state.profile.fill != FillRule::State) {
       rule.label = text;
       rules.push_back(rule);
       continue;
@@ -342,7 +343,9 @@ RasterCheckResult runRasterCheck(const GlContext& context, const RasterCheckOpti
     for (RasterCheckRow& r : rows) r.rule = rule.label;
     out << "\noitref " << rule.label << ":\n";
     printRows(out, rows);
-    if (rule.profileText == o.require && rows.back().allEqual()) requiredEqual = true;
+    const RasterCheckRow& all = rows.back();
+    if (rule.profileText == o.require && (o.requireCoverageOnly ? all.coverageDiffers == 0 : all.allEqual()))
+      requiredEqual = true;
     result.rows.insert(result.rows.end(), rows.begin(), rows.end());
   }
   result.pass = requiredEqual;

@@ -25,6 +25,7 @@ struct RasterCheckOptions {
   std::vector<std::string> profiles = {"exact", "llvmpipe"};
   // The profile whose rule must match in every pixel for exit 0; empty: report only.
   std::string require = "llvmpipe";
+  bool requireCoverageOnly = false;  // the required rule must cover the same pixels; values reported
 };
 
 struct RasterCheckRow {
@@ -43,7 +44,7 @@ struct RasterCheckRow {
 struct RasterCheckResult {
   std::vector<RasterCheckRow> rows;  // per rule: one row per class, then "all"
   uint64_t glPixels = 0, glDepthIsFragZ = 0;  // the driver's stored depth against its own gl_FragCoord.z
-  bool pass = true;                  // the required rule's "all" row is equal everywhere
+  bool pass = true;                  // the required rule's "all" row is equal (or covers alike)
 };
 
 // Draws and compares; prints the tables to `out`. Throws on GL errors and unknown profiles.

@@ -31,8 +31,9 @@ std::string Profile::describe() const {
     << ", unorm=" << unormName(unorm) << ", unorm_blend=" << unormBlendName(unormBlend)
     << ", float_blend=" << floatBlendName(floatBlend) << ", fma=" << (fma ? "on" : "off")
     << ", texture=" << textureFilteringName(texture)
-    << ", raster=" << (raster == Rasterization::Exact ? "exact" : "llvmpipe")
-    << ", math=" << (math == ShaderMath::Exact ? "exact" : "llvmpipe") << ")";
+    << ", raster=" << (raster == Rasterization::Exact ? "exact" : raster == Rasterization::Llvmpipe ? "llvmpipe" : "nvidia")
+    << ", math=" << (math == ShaderMath::Exact ? "exact" : "llvmpipe")
+    << ", fill=" << (fill == FillRule::State ? "state" : "bottom_left") << ")";
   return s.str();
 }
 
@@ -51,6 +52,7 @@ Profile llvmpipeProfile() {
   p.texture = TextureFiltering::Llvmpipe;
   p.raster = Rasterization::Llvmpipe;
   p.math = ShaderMath::Llvmpipe;
+  p.fill = FillRule::BottomLeft;
   return p;
 }
 
@@ -65,6 +67,8 @@ Profile nvidiaProfile() {
   p.floatBlend = FloatBlend::Nvidia;
   p.fma = false;
   p.texture = TextureFiltering::Nvidia;
+  p.raster = Rasterization::Nvidia;
+  p.fill = FillRule::BottomLeft;
   return p;
 }
 
@@ -109,18 +113,23 @@ Profile parseProfile(const std::string& text) {
     } else if (key == "raster") {
       if (value == "exact") p.raster = Rasterization::Exact;
       else if (value == "llvmpipe") p.raster = Rasterization::Llvmpipe;
-      else throw std::invalid_argument("profile key 'raster': expected exact or llvmpipe, got '" + value + "'");
+      else if (value == "nvidia") p.raster = Rasterization::Nvidia;
+      else throw std::invalid_argument("profile key 'raster': expected exact, llvmpipe or nvidia, got '" + value + "'");
     } else if (key == "math") {
       if (value == "exact") p.math = ShaderMath::Exact;
       else if (value == "llvmpipe") p.math = ShaderMath::Llvmpipe;
       else throw std::invalid_argument("profile key 'math': expected exact or llvmpipe, got '" + value + "'");
+    } else if (key == "fill") {
+      if (value == "state") p.fill = FillRule::State;
+      else if (value == "bottom_left") p.fill = FillRule::BottomLeft;
+      else throw std::invalid_argument("profile key 'fill': expected state or bottom_left, got '" + value + "'");
     } else if (key == "fma") {
       if (value == "on") p.fma = true;
       else if (value == "off") p.fma = false;
       else throw std::invalid_argument("profile key 'fma': expected on or off, got '" + value + "'");
     } else {
       throw std::invalid_argument("unknown profile key '" + key +
-                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma, texture, raster, math)");
+                                  "' (valid: fp16, packed, minifloat, unorm, unorm_blend, float_blend, fma, texture, raster, math, fill)");
     }
     overridden = true;
   }

@@ -125,10 +125,11 @@ detail::SetupContext makeContext(const Framebuffer& fb, const PipelineState& sta
   c.clipNearFar = !state.depth.clamp;
   c.rule = state.profile.raster;
   c.fusedMultiplyAdd = state.profile.fma;
-  if (c.rule == Rasterization::Llvmpipe) {
+  if (c.rule == Rasterization::Llvmpipe || state.profile.fill == FillRule::BottomLeft) {
     // llvmpipe snaps to 8 sub-pixel bits (lp_rast.h, FIXED_ORDER) and, in a framebuffer object,
     // whose rows go up as GL's window y does, takes left and bottom edges (lp_setup_tri.c,
-    // bottom_edge_rule 0; st_atom_rasterizer.c): the profile decides both.
+    // bottom_edge_rule 0; st_atom_rasterizer.c); an NVIDIA Hopper GPU covers the same pixels
+    // (docs/nvidia.md). The profile decides both; llvmpipe's setup needs them whatever `fill`.
     c.raster.subpixelBits = 8;
     c.raster.fill = FillConvention::BottomLeft;
   }
