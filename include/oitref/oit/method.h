@@ -134,6 +134,9 @@ struct FrameContext {
   // Where the frame's attachments come from: a pool keeps them between frames, as a GL
   // application keeps its render targets; without one, each frame allocates its own.
   AttachmentPool* pool = nullptr;
+
+  // The camera's projection (at the frame's aspect) times its view: world to clip space.
+  glm::mat4 viewProjection() const;
 };
 
 // One item of what a frame allocates, for the memory check and its error message.

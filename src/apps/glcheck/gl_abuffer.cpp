@@ -42,7 +42,7 @@ struct FragmentCounts {
 // Counted by oitref over the same clip-space triangles, with no depth test: at least what the
 // storing pass keeps (it keeps those in front of the opaque depth).
 FragmentCounts countTransparentFragments(const FrameContext& frame) {
-  const glm::mat4 vp = frame.scene.camera.projection(float(frame.width) / float(frame.height)) * frame.scene.camera.view();
+  const glm::mat4 vp = frame.viewProjection();
   DepthBuffer depth(DepthFormat::D32F, frame.width, frame.height);
   Framebuffer fb;
   fb.depth = &depth;

@@ -111,7 +111,7 @@ GlFrame::GlFrame(const GlContext& context, const FrameContext& frame, const std:
     gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     textures_[a.name] = t;
   }
-  const glm::mat4 vp = frame.scene.camera.projection(float(frame.width) / float(frame.height)) * frame.scene.camera.view();
+  const glm::mat4 vp = frame.viewProjection();
   for (const ScenePart& sp : frame.geometry.parts) {
     const Geometry g = toClipGeometry(sp, vp);
     std::vector<float> interleaved;

@@ -28,27 +28,11 @@ WindowVertex toWindow(const ClipVertex& v, const SetupContext& c) {
   return out;
 }
 
-// raster=nvidia: a triangle that no clip plane cuts (w > 0, inside the guard band and between
-// the near and far planes at its three vertices) is interpolated from its vertices where the
-// rasteriser snapped them: its plane through the snapped window positions, each vertex keeping
-// its w and z. Measured on an H200 (docs/nvidia.md): interpolating from the unsnapped vertices
-// differs by up to 1.2e-3 in depth on triangles whose vertices snapping moves; this, by rounding
-// (9.2e-7). Triangles the near or far plane cuts fit neither, and keep Exact's interpolation.
-bool interpolatesFromSnapped(const ClipVertex in[3], const SetupContext& c) {
-  if (c.rule != Rasterization::Nvidia) return false;
-  for (int k = 0; k < 3; ++k) {
-    const glm::dvec4& p = in[k].position;
-    if (!(p.w > 0.0) || std::fabs(p.x) > kGuardBand * p.w || std::fabs(p.y) > kGuardBand * p.w || std::fabs(p.z) > p.w)
-      return false;
-  }
-  return true;
-}
-
-glm::dvec4 atSnappedPosition(const ClipVertex& v, const SetupContext& c) {
-  const WindowVertex snapped = toWindow(v, c);
+// A vertex's clip position moved to where the rasteriser snapped it (window position `snapped`),
+// keeping its z and w: raster=nvidia interpolates from these (setupPrimitive).
+glm::dvec4 atSnappedPosition(const glm::dvec4& p, WindowVertex snapped, const SetupContext& c) {
   const double scale = double(int64_t(1) << c.raster.subpixelBits);
   const double halfW = 0.5 * c.vw, halfH = 0.5 * c.vh;
-  const glm::dvec4& p = v.position;
   return {(double(snapped.x) / scale - (c.vx + halfW)) / halfW * p.w, (double(snapped.y) / scale - (c.vy + halfH)) / halfH * p.w,
           p.z, p.w};
 }
@@ -150,8 +134,15 @@ void setupPrimitive(const Geometry& geometry, size_t t, const SetupContext& cont
   WindowVertex w[kMaxClipVertices];
   for (int i = 0; i < n; ++i) w[i] = toWindow(polygon[i], context);
   glm::dvec4 clip[3] = {in[0].position, in[1].position, in[2].position};
-  if (interpolatesFromSnapped(in, context))
-    for (int k = 0; k < 3; ++k) clip[k] = atSnappedPosition(in[k], context);
+  // raster=nvidia: a triangle that no clip plane cuts (the clipper returns its three vertices, in
+  // order) is interpolated from its vertices where the rasteriser snapped them. Measured on an
+  // H200 (docs/nvidia.md): interpolating from the unsnapped vertices differs by up to 1.2e-3 in
+  // depth on triangles whose vertices snapping moves; this, by rounding (9.2e-7). Triangles a
+  // plane cuts fit neither, and keep Exact's interpolation.
+  const bool whole = n == 3 && polygon[0].position == in[0].position && polygon[1].position == in[1].position &&
+                     polygon[2].position == in[2].position;
+  if (context.rule == Rasterization::Nvidia && whole)
+    for (int k = 0; k < 3; ++k) clip[k] = atSnappedPosition(in[k].position, w[k], context);
   const TriangleInterpolation interpolation = interpolationOf(clip);
   for (int i = 1; i + 1 < n; ++i)
     emitSnappedTriangle(w[0].x, w[0].y, w[i].x, w[i].y, w[i + 1].x, w[i + 1].y, source, uint32_t(t), interpolation, context,

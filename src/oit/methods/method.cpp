@@ -52,6 +52,10 @@ Registry& registry() {
 
 }  // namespace
 
+glm::mat4 FrameContext::viewProjection() const {
+  return scene.camera.projection(float(width) / float(height)) * scene.camera.view();
+}
+
 int AttachmentDecl::bytesPerTexel() const {
   if (!isDepth) return format.bytesPerTexel();
   return depthFormat == DepthFormat::D16 ? 2 : 4;

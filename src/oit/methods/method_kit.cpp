@@ -114,10 +114,7 @@ void FrameTargets::finish(FrameResult& result, ColorHandle final) {
   for (auto& [name, image] : result.dump) image.decodeFetchesAs(TextureFiltering::Exact);
 }
 
-glm::mat4 PassRunner::viewProjection() const {
-  const Camera& c = context_.scene.camera;
-  return c.projection(float(context_.width) / float(context_.height)) * c.view();
-}
+glm::mat4 PassRunner::viewProjection() const { return context_.viewProjection(); }
 
 void PassRunner::opaquePass(FrameTargets& targets, bool everything) {
   const auto t0 = std::chrono::steady_clock::now();
